@@ -1,0 +1,2 @@
+// rtusim command-line entry point.
+int main() { return 0; }
