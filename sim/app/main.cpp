@@ -1,2 +1,50 @@
-// rtusim command-line entry point.
-int main() { return 0; }
+// rtusim command-line entry point: subcommands, and the exit-status contract
+// (0 success, 2 bad input with one line on stderr, 1 internal error).
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+
+#include "app/commands.h"
+#include "util/error.h"
+
+int main(int argc, char** argv) {
+  using namespace rtusim;
+  CLI::App app{"rtusim: cycle-approximate simulator of a kd-tree ray-tracing unit"};
+  app.require_subcommand(1);
+  RunOptions run_opts, hits_opts;
+
+  auto* run = app.add_subcommand("run", "Run one simulation: stats.json, config.toml, image.png");
+  run->add_option("config", run_opts.config, "TOML run config")->required();
+  run->add_option("--set", run_opts.overrides, "Override a config key: KEY=VALUE")
+      ->allow_extra_args(false);
+  run->add_option("--out", run_opts.out, "Output directory (default: out)");
+
+  auto* hits = app.add_subcommand("hits", "Write primary-ray hits (RTH1 format)");
+  hits->add_option("config", hits_opts.config, "TOML run config")->required();
+  hits->add_option("--set", hits_opts.overrides, "Override a config key: KEY=VALUE")
+      ->allow_extra_args(false);
+  hits->add_option("--out", hits_opts.out, "Output file")->required();
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "rtusim: " << e.what() << " (see rtusim --help)\n";
+    return 2;
+  }
+
+  try {
+    if (*run) return run_command(run_opts);
+    if (*hits) return hits_command(hits_opts);
+  } catch (const InputError& e) {
+    std::cerr << "rtusim: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "rtusim: internal error: " << e.what() << "\n";
+    return 1;
+  }
+  return 1;
+}

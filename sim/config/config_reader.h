@@ -1,0 +1,67 @@
+// Reads a TOML run config with `--set` overrides. Every part declares the keys it reads, with
+// type, default and range, through this reader; what it read becomes the effective config, and
+// any key nobody read is rejected. Errors name the file, the line and the key.
+#pragma once
+#include <map>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <glm/vec3.hpp>
+#include <toml++/toml.h>
+
+namespace rtusim {
+
+class ConfigReader {
+ public:
+  // Parses `path` (throws InputError on a missing file or a TOML syntax error).
+  static ConfigReader from_file(const std::string& path);
+  // Parses TOML text (`origin` names it in errors).
+  static ConfigReader from_string(const std::string& text, const std::string& origin);
+
+  // Applies one `KEY=VALUE` override. VALUE is a TOML value (42, 1.5, true, "s", [1, 2]);
+  // anything that does not parse as one is taken as a bare string.
+  void apply_override(const std::string& assignment);
+
+  // Typed getters: the value at dotted `key`, or `fallback` when absent. A wrong type or a
+  // value out of range throws InputError naming the key and where it was set.
+  int64_t get_int(const std::string& key, int64_t fallback, int64_t min, int64_t max);
+  double get_float(const std::string& key, double fallback, double min, double max);
+  bool get_bool(const std::string& key, bool fallback);
+  std::string get_string(const std::string& key, const std::string& fallback,
+                         const std::vector<std::string>& allowed = {});
+  // A string or an array of strings; each must be in `allowed` (if non-empty).
+  std::vector<std::string> get_string_list(const std::string& key,
+                                           const std::vector<std::string>& fallback,
+                                           const std::vector<std::string>& allowed = {});
+  std::optional<glm::vec3> get_vec3(const std::string& key);
+  bool has(const std::string& key) const;
+
+  // Throws InputError for the first key (in file order) that no getter asked for.
+  void reject_unknown_keys() const;
+
+  // The effective config: every key read, with the value used (defaults included).
+  const toml::table& effective() const { return effective_; }
+  const std::string& origin() const { return origin_; }
+  // Directory of the config file, for resolving relative paths ("" for non-file sources).
+  const std::string& base_dir() const { return base_dir_; }
+
+ private:
+  const toml::node* find(const std::string& key) const;
+  [[noreturn]] void fail(const std::string& key, const std::string& what) const;
+  toml::table& effective_table_for(const std::string& key);  // marks `key` read
+  template <class V>
+  void record(const std::string& key, V&& value) {
+    effective_table_for(key).insert_or_assign(key.substr(key.rfind('.') + 1), std::forward<V>(value));
+  }
+
+  std::string origin_;
+  std::string base_dir_;
+  toml::table root_;
+  std::map<std::string, std::string> override_keys_;  // key -> "--set" text, for errors
+  std::map<std::string, bool> used_;
+  toml::table effective_;
+};
+
+}  // namespace rtusim

@@ -1,0 +1,32 @@
+// Traces ray batches on the host with the shared traversal step function, counting fetches
+// per stream (no memory model).
+#pragma once
+#include <array>
+
+#include "layout/memory_image.h"
+#include "tracer/ray_batch.h"
+
+namespace rtusim {
+
+// Fetches and bytes per stream (indexed by Stream).
+struct FetchCounts {
+  std::array<uint64_t, 3> fetches{};
+  std::array<uint64_t, 3> bytes{};
+  void fetch(Stream s, uint64_t /*addr*/, uint32_t n) {
+    ++fetches[static_cast<int>(s)];
+    bytes[static_cast<int>(s)] += n;
+  }
+};
+
+class HostBackend final : public TraceBackend {
+ public:
+  explicit HostBackend(const MemoryImage& image) : image_(image) {}
+  void trace(std::span<const RayRecord> rays, std::span<Hit> hits) override;
+  const FetchCounts& counts() const { return counts_; }
+
+ private:
+  const MemoryImage& image_;
+  FetchCounts counts_;
+};
+
+}  // namespace rtusim

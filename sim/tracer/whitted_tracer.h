@@ -1,0 +1,55 @@
+// The host-side Whitted tracer: primary rays, shadow rays to every point light, mirror
+// reflection and Fresnel refraction up to tracer.max_depth. It issues ray batches to a
+// TraceBackend in the configured order (recursive per pixel, or wavefront by generation).
+#pragma once
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "scene/pinhole_camera.h"
+#include "scene/scene.h"
+#include "tracer/ray_batch.h"
+#include "tracer/ray_offset.h"
+#include "tracer/tracer_params.h"
+
+namespace rtusim {
+
+struct FrameResult {
+  int width = 0, height = 0;
+  std::vector<glm::vec3> radiance;               // linear RGB per pixel, row-major, y = 0 top
+  std::array<uint64_t, kRayKinds> rays_by_kind{};  // traced rays per RayKind
+  uint64_t rays_total() const {
+    uint64_t n = 0;
+    for (auto c : rays_by_kind) n += c;
+    return n;
+  }
+};
+
+class WhittedTracer {
+ public:
+  WhittedTracer(const Scene& scene, const TracerParams& params, TraceBackend& backend);
+
+  // Renders a frame; the rays reach the backend in the configured order.
+  FrameResult render(const PinholeCamera& camera, int width, int height);
+
+ private:
+  struct PathRay;
+  struct Shading;
+
+  Shading shade(const PathRay& pr, const Hit& hit) const;
+  glm::vec3 local_radiance(const Shading& sh, const Hit* shadow_hits) const;
+  void render_recursive(const PinholeCamera& camera, FrameResult& out);
+  void render_wavefront(const PinholeCamera& camera, FrameResult& out);
+  void trace_recursive(const PathRay& pr, FrameResult& out, glm::vec3& acc);
+
+  const Scene& scene_;
+  TracerParams params_;
+  TraceBackend& backend_;
+  RayOffset offset_;
+  std::vector<PointLight> lights_;  // the scene's, or the headlight
+  std::vector<uint64_t> key_step_;  // ray-tree key stride per depth (preorder keys)
+};
+
+}  // namespace rtusim

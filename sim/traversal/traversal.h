@@ -1,0 +1,168 @@
+// Kd-tree traversal as one step function, shared by the host tracer and the SystemC unit.
+// Front-to-back, stack-based (pbrt's three cases), reading every node, list and triangle from
+// the memory image and reporting each fetch to a sink, in issue order.
+#pragma once
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+#include <glm/vec3.hpp>
+
+#include "geom/ray.h"
+#include "layout/memory_image.h"
+#include "layout/node_view.h"
+#include "traversal/watertight_triangle.h"
+
+namespace rtusim {
+
+// A fetch sink that drops everything: plain traversal with no memory model.
+struct NullFetchSink {
+  void fetch(Stream, uint64_t /*addr*/, uint32_t /*bytes*/) {}
+};
+
+enum class StepKind : uint8_t {
+  kInterior,  // visited an interior node (one node fetch)
+  kLeaf,      // visited a leaf and tested its triangles
+  kDone,      // nothing left: the hit (if any) is final
+};
+
+// The state of one ray in traversal: what a hardware unit keeps per ray in flight.
+struct TraversalState {
+  static constexpr int kStackDepth = 64;  // > the builder's depth limit
+  struct Entry {
+    uint64_t addr;
+    float t_min, t_max;
+  };
+
+  Ray ray;
+  bool any_hit = false;  // shadow rays: stop at the first hit in (0, t_max)
+  glm::vec3 inv_dir{0.0f};
+  WatertightRay wray{glm::vec3(0.0f), glm::vec3(0.0f, 0.0f, 1.0f)};
+  uint64_t node = 0;  // node to visit next
+  float t_min = 0.0f, t_max = 0.0f;
+  Entry stack[kStackDepth];
+  int sp = 0;
+  bool done = false;
+  Hit hit;
+  uint32_t leaf_prims_tested = 0;  // of the last leaf step: triangles intersected
+};
+
+// Starts a ray: clips it to the scene bounds; a ray that misses them is done at once.
+inline void traversal_begin(TraversalState& s, const MemoryImage& image, const Ray& ray,
+                            bool any_hit) {
+  s.ray = ray;
+  s.any_hit = any_hit;
+  s.hit = Hit{};
+  s.sp = 0;
+  s.node = image.root_addr;
+  s.wray = WatertightRay(ray.origin, ray.dir);
+  float t0 = 0.0f, t1 = ray.t_max;
+  for (int a = 0; a < 3; ++a) {
+    s.inv_dir[a] = 1.0f / ray.dir[a];  // +-inf for a zero component, handled below
+    const float o = ray.origin[a];
+    if (ray.dir[a] == 0.0f) {
+      if (o < image.bounds_min[a] || o > image.bounds_max[a]) t1 = -1.0f;
+      continue;
+    }
+    float tn = (image.bounds_min[a] - o) * s.inv_dir[a];
+    float tf = (image.bounds_max[a] - o) * s.inv_dir[a];
+    if (tn > tf) std::swap(tn, tf);
+    // Widen by a few ulps so rounding never clips a hit on the scene's boundary.
+    tn *= 1.0f - 6.0f * std::numeric_limits<float>::epsilon();
+    tf *= 1.0f + 6.0f * std::numeric_limits<float>::epsilon();
+    t0 = std::max(t0, tn);
+    t1 = std::min(t1, tf);
+  }
+  s.t_min = t0;
+  s.t_max = t1;
+  s.done = !(t0 <= t1) || image.nodes.size_bytes == 0;
+}
+
+namespace detail {
+// Pops the next node whose interval can still hold a closer hit; false if none is left.
+inline bool traversal_pop(TraversalState& s) {
+  while (s.sp > 0) {
+    const TraversalState::Entry& e = s.stack[--s.sp];
+    if (e.t_min > s.hit.t) continue;  // everything there is farther than the hit found
+    s.node = e.addr;
+    s.t_min = e.t_min;
+    s.t_max = e.t_max;
+    return true;
+  }
+  return false;
+}
+}  // namespace detail
+
+// Visits one node of ray `s`. `Decoder` is the layout's static decode(image, addr) -> NodeView.
+template <class Decoder, class Sink>
+inline StepKind traversal_step(TraversalState& s, const MemoryImage& image, Sink& sink) {
+  if (s.done) return StepKind::kDone;
+  sink.fetch(Stream::kNode, s.node, image.node_bytes);
+  const NodeView n = Decoder::decode(image, s.node);
+
+  if (!n.leaf) {
+    // Interior: which side the origin is on, and where the ray crosses the plane.
+    const int a = n.axis;
+    const float o = s.ray.origin[a], d = s.ray.dir[a];
+    const bool below_first = o < n.split || (o == n.split && d <= 0.0f);
+    const uint64_t near = below_first ? n.below_addr : n.above_addr;
+    const uint64_t far = below_first ? n.above_addr : n.below_addr;
+    const float t_plane = (n.split - o) * s.inv_dir[a];
+    if (d == 0.0f || std::isnan(t_plane)) {
+      // Parallel to the plane (or 0 * inf): a ray in the plane sees both sides, else one.
+      if (o == n.split) {
+        s.stack[s.sp++] = {n.above_addr, s.t_min, s.t_max};
+        s.node = n.below_addr;
+      } else {
+        s.node = near;
+      }
+    } else if (t_plane > s.t_max || t_plane <= 0.0f) {
+      s.node = near;  // the plane lies beyond the interval or behind the origin
+    } else if (t_plane < s.t_min) {
+      s.node = far;  // the ray enters the interval already past the plane
+    } else {
+      s.stack[s.sp++] = {far, t_plane, s.t_max};
+      s.node = near;
+      s.t_max = t_plane;
+    }
+    return StepKind::kInterior;
+  }
+
+  // Leaf: fetch its list (if any) and triangles, and test each.
+  if (n.prim_count >= 2) sink.fetch(Stream::kList, n.list_addr, n.prim_count * 4u);
+  for (uint32_t i = 0; i < n.prim_count; ++i) {
+    const uint32_t tri = n.prim_count == 1 ? n.inline_prim
+                                           : image.load<uint32_t>(n.list_addr + 4ull * i);
+    const uint64_t ta = image.triangle_addr(tri);
+    sink.fetch(Stream::kTriangle, ta, MemoryImage::kTriangleBytes);
+    float v[9];
+    std::memcpy(v, image.bytes.data() + ta, sizeof v);
+    float t, bu, bv;
+    const float t_limit = std::min(s.hit.t, s.ray.t_max);
+    if (intersect_watertight(s.wray, {v[0], v[1], v[2]}, {v[3], v[4], v[5]}, {v[6], v[7], v[8]},
+                             t_limit, t, bu, bv)) {
+      s.hit = {t, tri, bu, bv};
+      if (s.any_hit) {
+        s.leaf_prims_tested = i + 1;
+        s.done = true;
+        return StepKind::kLeaf;
+      }
+    }
+  }
+  s.leaf_prims_tested = n.prim_count;
+  // The ray is finished in this leaf when its hit lies inside the leaf's interval.
+  if (s.hit.t <= s.t_max || !detail::traversal_pop(s)) s.done = true;
+  return StepKind::kLeaf;
+}
+
+// Traverses a whole ray; returns its closest hit (or first hit in any-hit mode).
+template <class Decoder, class Sink = NullFetchSink>
+inline Hit traverse(const MemoryImage& image, const Ray& ray, bool any_hit, Sink& sink) {
+  TraversalState s;
+  traversal_begin(s, image, ray, any_hit);
+  while (traversal_step<Decoder>(s, image, sink) != StepKind::kDone) {
+  }
+  return s.hit;
+}
+
+}  // namespace rtusim
