@@ -1,0 +1,87 @@
+// Single-thread primary-ray throughput of the host kd-tree traversal against Embree's
+// rtcIntersect1 on the same rays in the same run, plus kd-tree build time and memory.
+// Usage: traversal_bench [SCENE ...]  (names under $RTUSIM_SCENES; default sponza and kitchen)
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "config/run_config.h"
+#include "embree_scene.h"
+#include "kdtree/sah_builder.h"
+#include "layout/dfl_layout.h"
+#include "scene/gltf_loader.h"
+#include "scene/pinhole_camera.h"
+#include "traversal/traversal.h"
+
+using namespace rtusim;
+
+namespace {
+
+double now_s() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+double max_rss_mb() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return u.ru_maxrss / 1024.0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<std::string> scenes;
+  for (int i = 1; i < argc; ++i) scenes.push_back(argv[i]);
+  if (scenes.empty()) scenes = {"sponza_dabrovic", "kitchen"};
+  const int w = 512, h = 512, reps = 5;
+
+  std::printf("%-20s %9s %8s %9s %9s %10s %10s %7s\n", "scene", "tris", "build_s", "nodes",
+              "rss_MB", "kd_Mray/s", "emb_Mray/s", "ratio");
+  for (const std::string& name : scenes) {
+    const Scene scene = load_gltf(scenes_dir() + "/" + name + "/" + name + ".gltf");
+    const double rss0 = max_rss_mb();
+    std::vector<double> build_times;
+    KdTree tree;
+    for (int r = 0; r < 3; ++r) {
+      tree = build_sah_kd_tree(scene, KdBuildParams{});
+      build_times.push_back(tree.report.build_seconds);
+    }
+    const double rss_build = max_rss_mb() - rss0;
+    const MemoryImage image = DflLayout().build_image(tree, scene);
+    oracle::EmbreeScene embree(scene);
+
+    std::vector<Ray> rays;
+    const PinholeCamera cam(scene.cameras.front(), w, h);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) rays.push_back(cam.generate(x, y));
+
+    // Interleave the two so machine noise hits both alike; checksums keep the work alive.
+    std::vector<double> kd_rate, emb_rate;
+    double checksum = 0.0;
+    for (int r = 0; r < reps; ++r) {
+      NullFetchSink sink;
+      double t0 = now_s();
+      for (const Ray& ray : rays) checksum += traverse<DflLayout>(image, ray, false, sink).triangle;
+      kd_rate.push_back(rays.size() / (now_s() - t0));
+      t0 = now_s();
+      for (const Ray& ray : rays) checksum += embree.intersect(ray).triangle;
+      emb_rate.push_back(rays.size() / (now_s() - t0));
+    }
+    std::printf("%-20s %9u %8.3f %9llu %9.1f %10.2f %10.2f %7.2f\n", name.c_str(),
+                scene.triangle_count(), median(build_times),
+                (unsigned long long)tree.report.nodes, rss_build, median(kd_rate) / 1e6,
+                median(emb_rate) / 1e6, median(kd_rate) / median(emb_rate));
+    std::fprintf(stderr, "checksum %g\n", checksum);
+  }
+  std::printf("(medians of %d runs; ratio = kd-tree rays/s / Embree rtcIntersect1 rays/s, 1 thread; "
+              "rss_MB = growth of peak RSS during the builds)\n", reps);
+  return 0;
+}

@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# `rtusim run` on the default config: outputs, contract stats keys, determinism.
+set -euo pipefail
+rtusim=$1; src=$2
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+small=(--set image.width=48 --set image.height=40)
+
+"$rtusim" run "$src/configs/default.toml" "${small[@]}" --out "$tmp/a" > "$tmp/a.txt"
+"$rtusim" run "$src/configs/default.toml" "${small[@]}" --out "$tmp/b" > /dev/null
+for f in stats.json config.toml image.png; do
+  [ -s "$tmp/a/$f" ] || { echo "FAIL: missing $f"; exit 1; }
+done
+grep -q "rays" "$tmp/a.txt" || { echo "FAIL: no summary table"; exit 1; }
+ls -A "$tmp/a" | grep -q staging && { echo "FAIL: staging directory left behind"; exit 1; }
+
+python3 - "$tmp/a/stats.json" "$tmp/b/stats.json" "$tmp/a/config.toml" <<'PY'
+import json, sys, tomllib
+a, b = (json.load(open(p)) for p in sys.argv[1:3])
+for k in ["rays.total", "rays.primary", "rays.shadow", "rays.reflection", "rays.refraction",
+          "tree.nodes", "tree.bytes", "traversal.node_fetches", "run.seconds"]:
+    assert k in a, f"missing stats key {k}"
+assert a["rays.primary"] == 48 * 40, a["rays.primary"]
+assert a["rays.total"] == sum(a[f"rays.{k}"] for k in ["primary", "shadow", "reflection", "refraction"])
+assert a["rays.reflection"] > 0 and a["rays.refraction"] > 0
+assert a["tree.bytes"] == 8 * a["tree.nodes"], "dfl nodes are 8 bytes"
+# Determinism: identical except timings.
+timing = lambda k: k.endswith("seconds") or k.endswith("per_second")
+da = {k: v for k, v in a.items() if not timing(k)}
+db = {k: v for k, v in b.items() if not timing(k)}
+assert da == db, [k for k in da if da[k] != db.get(k)]
+# The effective config holds the overrides and the defaults, and is valid TOML.
+cfg = tomllib.load(open(sys.argv[3], "rb"))
+assert cfg["image"]["width"] == 48 and cfg["tracer"]["max_depth"] == 4, cfg
+PY
+# The effective config reproduces the run.
+"$rtusim" run "$tmp/a/config.toml" --out "$tmp/c" > /dev/null
+python3 - "$tmp/a/stats.json" "$tmp/c/stats.json" <<'PY'
+import json, sys
+a, c = (json.load(open(p)) for p in sys.argv[1:3])
+assert a["traversal.node_fetches"] == c["traversal.node_fetches"] and a["rays.total"] == c["rays.total"]
+PY
+echo "run_default: 1 passed, 0 failed"
