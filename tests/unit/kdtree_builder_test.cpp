@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <iterator>
 #include <random>
 #include <vector>
 
@@ -159,10 +160,28 @@ std::vector<LeafInfo> check_structure(const Scene& scene, const KdTree& tree) {
   return leaves;
 }
 
+// Triangle ids below `index` (sorted, unique); checks that every split makes progress: a child
+// with the same box as its parent must hold fewer triangles.
+std::vector<uint32_t> check_progress(const KdTree& tree, uint32_t index, const Bounds3f& box) {
+  const KdNode& n = tree.nodes[index];
+  if (n.is_leaf())
+    return {tree.refs.begin() + n.first_ref, tree.refs.begin() + n.first_ref + n.ref_count};
+  const Bounds3f below_box = KdTree::below_bounds(n, box), above_box = KdTree::above_bounds(n, box);
+  const std::vector<uint32_t> below = check_progress(tree, n.below, below_box);
+  const std::vector<uint32_t> above = check_progress(tree, n.above, above_box);
+  std::vector<uint32_t> all;
+  std::set_union(below.begin(), below.end(), above.begin(), above.end(), std::back_inserter(all));
+  auto same_box = [&](const Bounds3f& b) { return b.min == box.min && b.max == box.max; };
+  if (same_box(below_box)) EXPECT_LT(below.size(), all.size()) << "no progress below " << index;
+  if (same_box(above_box)) EXPECT_LT(above.size(), all.size()) << "no progress above " << index;
+  return all;
+}
+
 // Full invariant check: structure, exact coverage, leaf triangles touch their leaf, report.
 void check_tree(const Scene& scene, const KdTree& tree, const KdBuildParams& params) {
   const std::vector<LeafInfo> leaves = check_structure(scene, tree);
   const uint32_t n = scene.triangle_count();
+  if (!leaves.empty()) check_progress(tree, 0, tree.bounds);
 
   // Scene bounds.
   if (n == 0) {
@@ -351,6 +370,7 @@ TEST(KdTreeBuilder, CoplanarSceneInAxisPlane) {
   const KdTree tree = build_sah_kd_tree(scene, params);
   check_tree(scene, tree, params);
   EXPECT_GT(tree.report.leaves, 50u);
+  EXPECT_EQ(tree.refs.size(), tris.size()) << "grid-aligned triangles touching a plane were split";
   for (const KdNode& n : tree.nodes)
     if (!n.is_leaf()) EXPECT_NE(n.axis, 2) << "split along the flat axis";
 }
@@ -494,6 +514,16 @@ TEST(TriangleClip, ClippedBoundsStayInBoxAndCoverTheTriangle) {
   ASSERT_FALSE(touch.empty());
   EXPECT_EQ(touch.min.x, 1.0f);
   EXPECT_EQ(touch.max.x, 1.0f);
+}
+
+TEST(TriangleClip, FallbackClampNeverEmptyAndInsideBox) {
+  // What the builder uses when rounding empties a clip: bounds clamped into the child box.
+  const Bounds3f box{glm::vec3(0), glm::vec3(1)};
+  const Bounds3f outside{glm::vec3(1.0000001f, 0.2f, -3), glm::vec3(2, 0.4f, -2)};
+  const Bounds3f c = clamp_bounds_into(outside, box);
+  ASSERT_FALSE(c.empty());
+  EXPECT_EQ(c.min, glm::vec3(1, 0.2f, 0));
+  EXPECT_EQ(c.max, glm::vec3(1, 0.4f, 0));
 }
 
 }  // namespace
