@@ -94,10 +94,14 @@ class SahBuilder {
   KdTree build();
 
  private:
+  // Builds the subtree of a node from its sorted events (consumed); returns the node index.
   uint32_t build_node(std::vector<SplitEvent>& events, uint32_t tri_count, const Bounds3f& box,
                       int depth);
+  // The SAH sweep over all three axes.
   SplitChoice find_split(const std::vector<SplitEvent>& events, uint32_t tri_count,
                          const Bounds3f& box) const;
+  // Classifies, clips straddlers and fills the children's sorted lists; `events` is consumed
+  // (its buffer becomes `below`).
   void split_events(std::vector<SplitEvent>& events, const SplitChoice& split,
                     const Bounds3f& below_box, const Bounds3f& above_box,
                     std::vector<SplitEvent>& below, std::vector<SplitEvent>& above,
@@ -201,14 +205,14 @@ uint32_t SahBuilder::build_node(std::vector<SplitEvent>& events, uint32_t tri_co
     return index;
   }
 
-  // Interior node: hand each child its sorted events, free ours, recurse below then above.
+  // Interior node: hand each child its sorted events (ours become below's), recurse below then
+  // above.
   Bounds3f below_box = box, above_box = box;
   below_box.max[split.axis] = split.pos;
   above_box.min[split.axis] = split.pos;
   std::vector<SplitEvent> below, above;
   uint32_t below_count = 0, above_count = 0;
   split_events(events, split, below_box, above_box, below, above, below_count, above_count);
-  release(events);
   const uint32_t below_index = build_node(below, below_count, below_box, depth + 1);
   const uint32_t above_index = build_node(above, above_count, above_box, depth + 1);
 
@@ -343,30 +347,32 @@ void SahBuilder::split_events(std::vector<SplitEvent>& events, const SplitChoice
   std::sort(new_below_.begin(), new_below_.end());
   std::sort(new_above_.begin(), new_above_.end());
 
-  // Merge the one-sided triangles' events (still sorted) with the new sorted ones.
-  size_t below_events = 0, above_events = 0;
-  for (SplitEvent e : events) {
-    const Side s = side_[kd_detail::event_triangle(e)];
-    below_events += s == Side::kBelow;
-    above_events += s == Side::kAbove;
-  }
-  below.resize(below_events + new_below_.size());
-  above.resize(above_events + new_above_.size());
-  track(below, true);
-  track(above, true);
-  size_t nb = 0, na = 0, ob = 0, oa = 0;
+  // Above: the one-sided triangles' events (still sorted) merged with the new sorted ones.
+  // Below: compacted to the front of `events` in the same pass, then merged in place from the
+  // back, so the parent's list becomes the below child's without another allocation.
+  above.reserve(std::min(events.size(), size_t(6) * only_above) + new_above_.size());
+  size_t kept_below = 0, na = 0;
   for (SplitEvent e : events) {
     const Side s = side_[kd_detail::event_triangle(e)];
     if (s == Side::kBelow) {
-      while (nb < new_below_.size() && new_below_[nb] < e) below[ob++] = new_below_[nb++];
-      below[ob++] = e;
+      events[kept_below++] = e;
     } else if (s == Side::kAbove) {
-      while (na < new_above_.size() && new_above_[na] < e) above[oa++] = new_above_[na++];
-      above[oa++] = e;
+      while (na < new_above_.size() && new_above_[na] < e) above.push_back(new_above_[na++]);
+      above.push_back(e);
     }
   }
-  while (nb < new_below_.size()) below[ob++] = new_below_[nb++];
-  while (na < new_above_.size()) above[oa++] = new_above_[na++];
+  above.insert(above.end(), new_above_.begin() + na, new_above_.end());
+  track(above, true);
+
+  track(events, false);
+  const size_t below_size = kept_below + new_below_.size();
+  events.resize(below_size);
+  for (size_t i = kept_below, j = new_below_.size(), k = below_size; j > 0;)
+    events[--k] = (i > 0 && events[i - 1] > new_below_[j - 1]) ? events[--i] : new_below_[--j];
+  if (events.capacity() > 2 * below_size + 1024) events.shrink_to_fit();
+  below = std::move(events);
+  std::vector<SplitEvent>().swap(events);
+  track(below, true);
 }
 
 void SahBuilder::make_leaf(KdNode& node, const std::vector<SplitEvent>& events) {
