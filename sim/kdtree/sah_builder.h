@@ -10,4 +10,8 @@ namespace rtusim {
 // the same tree. Fills KdTree::report (build_seconds included).
 KdTree build_sah_kd_tree(const Scene& scene, const KdBuildParams& params);
 
+// Depth limit the builder applies: params.max_depth, or round(8 + 1.3 log2 N) when it is -1
+// (8 for an empty scene). The root has depth 0; no node is deeper than this.
+int kd_max_depth(uint64_t triangle_count, const KdBuildParams& params);
+
 }  // namespace rtusim
