@@ -41,9 +41,7 @@ MemoryImage DflLayout::build_image(const KdTree& tree, const Scene& scene) const
     uint32_t w0, w1;
     if (n.is_leaf()) {
       w0 = (n.ref_count << 2) | 3u;
-      if (n.ref_count == 0) w1 = 0;
-      else if (n.ref_count == 1) w1 = tree.refs[n.first_ref];
-      else w1 = static_cast<uint32_t>((list_addr[order[s]] - image.lists.base_addr) / 4);
+      w1 = leaf_payload_word(tree, order[s], image, list_addr);
     } else {
       w0 = (slot_of[n.above] << 2) | n.axis;
       std::memcpy(&w1, &n.split, sizeof(float));

@@ -2,14 +2,18 @@
 #include "layout/layout.h"
 
 #include "layout/dfl_layout.h"
+#include "layout/odfl_layout.h"
+#include "layout/subtree_layout.h"
 #include "util/error.h"
 
 namespace rtusim {
 
-std::vector<std::string> layout_kinds() { return {"dfl"}; }
+std::vector<std::string> layout_kinds() { return {"dfl", "odfl", "subtree"}; }
 
 std::unique_ptr<Layout> make_layout(const std::string& kind) {
   if (kind == "dfl") return std::make_unique<DflLayout>();
+  if (kind == "odfl") return std::make_unique<OdflLayout>();
+  if (kind == "subtree") return std::make_unique<SubtreeLayout>();
   std::string known;
   for (const auto& k : layout_kinds()) known += (known.empty() ? "" : ", ") + k;
   throw InputError("layout.kind: unknown layout '" + kind + "' (known: " + known + ")");
@@ -46,6 +50,14 @@ void write_lists_and_triangles(const KdTree& tree, const Scene& scene, uint64_t 
     image.bounds_min[a] = tree.bounds.min[a];
     image.bounds_max[a] = tree.bounds.max[a];
   }
+}
+
+uint32_t leaf_payload_word(const KdTree& tree, uint32_t node, const MemoryImage& image,
+                           const std::vector<uint64_t>& leaf_list_addr) {
+  const KdNode& n = tree.nodes[node];
+  if (n.ref_count == 0) return 0;
+  if (n.ref_count == 1) return tree.refs[n.first_ref];
+  return static_cast<uint32_t>((leaf_list_addr[node] - image.lists.base_addr) / sizeof(uint32_t));
 }
 
 }  // namespace rtusim

@@ -29,4 +29,9 @@ std::vector<std::string> layout_kinds();
 void write_lists_and_triangles(const KdTree& tree, const Scene& scene, uint64_t addr,
                                MemoryImage& image, std::vector<uint64_t>& leaf_list_addr);
 
+// The payload word of leaf `node`, the same in every layout: 0 triangles -> 0, one -> its
+// triangle id, two or more -> the index of its first entry in the lists region.
+uint32_t leaf_payload_word(const KdTree& tree, uint32_t node, const MemoryImage& image,
+                           const std::vector<uint64_t>& leaf_list_addr);
+
 }  // namespace rtusim

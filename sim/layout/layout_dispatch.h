@@ -4,6 +4,8 @@
 #include <string>
 
 #include "layout/dfl_layout.h"
+#include "layout/odfl_layout.h"
+#include "layout/subtree_layout.h"
 #include "layout/memory_image.h"
 #include "util/error.h"
 
@@ -12,6 +14,8 @@ namespace rtusim {
 template <class F>
 decltype(auto) with_layout_decoder(const MemoryImage& image, F&& f) {
   if (image.layout == "dfl") return f.template operator()<DflLayout>();
+  if (image.layout == "odfl") return f.template operator()<OdflLayout>();
+  if (image.layout == "subtree") return f.template operator()<SubtreeLayout>();
   throw std::logic_error("no decoder for layout '" + image.layout + "'");
 }
 
