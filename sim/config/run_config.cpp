@@ -45,8 +45,8 @@ RunConfig load_run_config(const std::string& path, const std::vector<std::string
   const auto eye = r.get_vec3("camera.eye"), target = r.get_vec3("camera.target");
   const auto up = r.get_vec3("camera.up");
   const bool any_camera = eye || target || up || r.has("camera.vfov");
-  const double vfov = r.get_float("camera.vfov", 45.0, 1e-3, 179.0);
   if (any_camera) {
+    const double vfov = r.get_float("camera.vfov", 45.0, 1e-3, 179.0);
     if (!eye || !target) {
       throw InputError(path + ": camera: camera.eye and camera.target are both required when "
                        "any camera.* key is given");

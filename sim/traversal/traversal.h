@@ -116,14 +116,22 @@ inline StepKind traversal_step(TraversalState& s, const MemoryImage& image, Sink
       } else {
         s.node = near;
       }
-    } else if (t_plane > s.t_max || t_plane <= 0.0f) {
-      s.node = near;  // the plane lies beyond the interval or behind the origin
-    } else if (t_plane < s.t_min) {
-      s.node = far;  // the ray enters the interval already past the plane
     } else {
-      s.stack[s.sp++] = {far, t_plane, s.t_max};
-      s.node = near;
-      s.t_max = t_plane;
+      // Decisions are conservative by the rounding error of t_plane (the operands' ulps, in t,
+      // plus a relative margin): a ray that passes through a leaf's closed box, even at one
+      // corner point, visits it, so hits on shared edges and vertices never slip between
+      // leaves.
+      const float slack = (std::abs(n.split) + std::abs(o)) * std::abs(s.inv_dir[a]) * 0x1p-20f +
+                          std::abs(t_plane) * 0x1p-20f;
+      if (t_plane - slack > s.t_max || t_plane <= 0.0f) {
+        s.node = near;  // the plane lies beyond the interval or behind the origin
+      } else if (t_plane + slack < s.t_min) {
+        s.node = far;  // the ray enters the interval already past the plane
+      } else {
+        s.stack[s.sp++] = {far, std::max(s.t_min, t_plane - slack), s.t_max};
+        s.node = near;
+        s.t_max = std::min(s.t_max, t_plane + slack);
+      }
     }
     return StepKind::kInterior;
   }

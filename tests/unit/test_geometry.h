@@ -1,6 +1,7 @@
 // Geometry for tests: random triangle soups with degenerate cases, and closed meshes.
 #pragma once
 #include <cmath>
+#include <glm/geometric.hpp>
 #include <map>
 #include <random>
 
