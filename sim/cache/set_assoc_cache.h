@@ -73,9 +73,11 @@ class BasicSetAssocCache {
 
   // Replays single-line accesses; returns the misses among them.
   uint64_t replay(std::span<const uint64_t> addrs) {
-    const uint64_t before = misses_;
-    for (const uint64_t a : addrs) access(a);
-    return misses_ - before;
+    uint64_t missed = 0;  // a local: the counters in memory might alias the tag stores
+    for (const uint64_t a : addrs) missed += lookup_fill(a >> offset_bits_) ? 0 : 1;
+    accesses_ += addrs.size();
+    misses_ += missed;
+    return missed;
   }
 
   // Whether the line holding `addr` is present; changes nothing.
@@ -114,17 +116,25 @@ class BasicSetAssocCache {
   }
 
   bool access_line(uint64_t line) {
+    ++accesses_;
+    if (lookup_fill(line)) return true;
+    ++misses_;
+    return false;
+  }
+
+  // Looks `line` up; on a miss fills it. Touches no counter.
+  bool lookup_fill(uint64_t line) {
     const uint32_t set = static_cast<uint32_t>(line & set_mask_);
     const uint64_t tag = line >> index_bits_;
     uint64_t* t = &tags_[uint64_t{set} * ways_];
-    ++accesses_;
-    for (uint32_t w = 0; w < ways_; ++w) {
-      if (t[w] == tag) {
-        policy_.touch(set, w);
-        return true;
-      }
+    // Search every way without an early exit: a fixed trip count, so the only unpredictable
+    // branch is hit versus miss.
+    uint32_t hit_way = ways_;
+    for (uint32_t w = 0; w < ways_; ++w) hit_way = t[w] == tag ? w : hit_way;
+    if (hit_way != ways_) {
+      policy_.touch(set, hit_way);
+      return true;
     }
-    ++misses_;
     // Invalid ways first, lowest first (no invalidation: a set fills in way order).
     const uint32_t way = filled_[set] < ways_ ? filled_[set]++ : policy_.victim(set);
     t[way] = tag;

@@ -21,8 +21,12 @@ class LruPolicy final : public ReplacementPolicy {
   uint32_t victim(uint32_t set) override {
     const uint64_t* t = &last_use_[uint64_t{set} * ways_];
     uint32_t oldest = 0;
-    for (uint32_t w = 1; w < ways_; ++w)
-      if (t[w] < t[oldest]) oldest = w;
+    uint64_t oldest_use = t[0];
+    for (uint32_t w = 1; w < ways_; ++w) {  // selects, not branches: the outcome is random
+      const bool older = t[w] < oldest_use;
+      oldest_use = older ? t[w] : oldest_use;
+      oldest = older ? w : oldest;
+    }
     return oldest;
   }
 
