@@ -1,0 +1,93 @@
+// The memory side of the functional tier: a fetch sink for traversal_step() that sends the node
+// stream through the node L1 and the list and triangle streams through a second cache (the
+// "data cache", shared by both) or, when that is off, straight to DRAM.
+//
+// Accounting, per stream (Stream::kNode, kList, kTriangle):
+//  - fetches: fetch() calls; accesses: line accesses (a fetch touching two lines is two);
+//  - hits / misses: of those accesses;
+//  - dram_bytes: misses x line_bytes of the cache the stream goes through. A stream that goes
+//    straight to DRAM is read in whole DRAM bursts of kDramBurstBytes = 64: each fetch costs the
+//    64-byte aligned bursts its bytes touch (a 36-byte triangle is 64 or 128 bytes), and each
+//    burst counts as one access and one miss.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "cache/cache_params.h"
+#include "cache/set_assoc_cache.h"
+#include "layout/memory_image.h"
+
+namespace rtusim {
+
+class Stats;
+
+struct FetchCacheParams {
+  CacheParams node_l1;                    // the node L1 (config keys l1.*)
+  std::optional<CacheParams> data_cache;  // lists + triangles; nullopt = straight to DRAM
+};
+
+struct StreamCounters {
+  uint64_t fetches = 0;
+  uint64_t accesses = 0;
+  uint64_t hits = 0;
+  uint64_t misses = 0;
+  uint64_t dram_bytes = 0;
+};
+
+class FetchCache {
+ public:
+  static constexpr uint32_t kDramBurstBytes = 64;
+  static constexpr int kStreams = 3;
+
+  // Throws InputError on bad params (keys named "l1.*" and "dcache.*").
+  explicit FetchCache(const FetchCacheParams& p);
+
+  // The traversal sink call: `bytes` read at `addr` on stream `s`.
+  void fetch(Stream s, uint64_t addr, uint32_t bytes) {
+    StreamCounters& c = counters_[static_cast<int>(s)];
+    ++c.fetches;
+    if (bytes == 0) return;
+    if (s == Stream::kNode) {
+      count(c, node_l1_, addr, bytes);
+    } else if (data_cache_) {
+      count(c, *data_cache_, addr, bytes);
+    } else {
+      const uint64_t bursts = ((addr + bytes - 1) / kDramBurstBytes) - addr / kDramBurstBytes + 1;
+      c.accesses += bursts;
+      c.misses += bursts;
+      c.dram_bytes += bursts * kDramBurstBytes;
+    }
+  }
+
+  const StreamCounters& stream(Stream s) const { return counters_[static_cast<int>(s)]; }
+  uint64_t dram_bytes_total() const;
+  const SetAssocCache& node_l1() const { return node_l1_; }
+  const SetAssocCache* data_cache() const { return data_cache_ ? &*data_cache_ : nullptr; }
+
+  // Writes l1.{accesses,hits,misses}, dcache.{accesses,hits,misses} (when on),
+  // fetch.{nodes,lists,triangles}.{fetches,accesses,hits,misses} and
+  // dram.bytes.{nodes,lists,triangles,total}.
+  void write_stats(Stats& stats) const;
+
+ private:
+  static void count(StreamCounters& c, SetAssocCache& cache, uint64_t addr, uint32_t bytes) {
+    const uint64_t accesses_before = cache.accesses();
+    const uint32_t missed = cache.access_range(addr, bytes);
+    const uint64_t accessed = cache.accesses() - accesses_before;
+    c.accesses += accessed;
+    c.hits += accessed - missed;
+    c.misses += missed;
+    c.dram_bytes += uint64_t{missed} * cache.params().line_bytes;
+  }
+
+  SetAssocCache node_l1_;
+  std::optional<SetAssocCache> data_cache_;
+  std::array<StreamCounters, kStreams> counters_{};
+};
+
+// Stats key stem of a stream: "nodes", "lists", "triangles".
+const char* stream_stats_name(Stream s);
+
+}  // namespace rtusim
