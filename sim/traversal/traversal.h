@@ -37,7 +37,7 @@ struct TraversalState {
   Ray ray;
   bool any_hit = false;  // shadow rays: stop at the first hit in (0, t_max)
   glm::vec3 inv_dir{0.0f};
-  WatertightRay wray{glm::vec3(0.0f), glm::vec3(0.0f, 0.0f, 1.0f)};
+  WatertightRay wray;
   uint64_t node = 0;  // node to visit next
   float t_min = 0.0f, t_max = 0.0f;
   Entry stack[kStackDepth];
@@ -80,7 +80,7 @@ inline void traversal_begin(TraversalState& s, const MemoryImage& image, const R
 
 namespace detail {
 // Pops the next node whose interval can still hold a closer hit; false if none is left.
-inline bool traversal_pop(TraversalState& s) {
+[[gnu::always_inline]] inline bool traversal_pop(TraversalState& s) {
   while (s.sp > 0) {
     const TraversalState::Entry& e = s.stack[--s.sp];
     if (e.t_min > s.hit.t) continue;  // everything there is farther than the hit found
@@ -95,7 +95,7 @@ inline bool traversal_pop(TraversalState& s) {
 
 // Visits one node of ray `s`. `Decoder` is the layout's static decode(image, addr) -> NodeView.
 template <class Decoder, class Sink>
-inline StepKind traversal_step(TraversalState& s, const MemoryImage& image, Sink& sink) {
+[[gnu::always_inline]] inline StepKind traversal_step(TraversalState& s, const MemoryImage& image, Sink& sink) {
   if (s.done) return StepKind::kDone;
   sink.fetch(Stream::kNode, s.node, image.node_bytes);
   const NodeView n = Decoder::decode(image, s.node);
@@ -137,18 +137,18 @@ inline StepKind traversal_step(TraversalState& s, const MemoryImage& image, Sink
   }
 
   // Leaf: fetch its list (if any) and triangles, and test each.
+  const uint8_t* bytes = image.bytes.data();
   if (n.prim_count >= 2) sink.fetch(Stream::kList, n.list_addr, n.prim_count * 4u);
   for (uint32_t i = 0; i < n.prim_count; ++i) {
-    const uint32_t tri = n.prim_count == 1 ? n.inline_prim
-                                           : image.load<uint32_t>(n.list_addr + 4ull * i);
+    uint32_t tri = n.inline_prim;
+    if (n.prim_count > 1) std::memcpy(&tri, bytes + n.list_addr + 4ull * i, sizeof tri);
     const uint64_t ta = image.triangle_addr(tri);
     sink.fetch(Stream::kTriangle, ta, MemoryImage::kTriangleBytes);
     float v[9];
-    std::memcpy(v, image.bytes.data() + ta, sizeof v);
+    std::memcpy(v, bytes + ta, sizeof v);
     float t, bu, bv;
     const float t_limit = std::min(s.hit.t, s.ray.t_max);
-    if (intersect_watertight(s.wray, {v[0], v[1], v[2]}, {v[3], v[4], v[5]}, {v[6], v[7], v[8]},
-                             t_limit, t, bu, bv)) {
+    if (intersect_watertight(s.wray, v, t_limit, t, bu, bv)) {
       s.hit = {t, tri, bu, bv};
       if (s.any_hit) {
         s.leaf_prims_tested = i + 1;
