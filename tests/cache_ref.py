@@ -3,8 +3,8 @@
 
 usage: cache_ref.py TRACE SIZE ASSOC LINE POLICY[,POLICY...]
 TRACE is Dinero IV din format, one "0 <hex address>" line per read. Prints "POLICY MISSES"
-per policy. Policies: lru, fifo, tree_plru. Invalid ways are filled first, lowest way first.
-tree_plru: one bit per internal node of a binary tree over the ways (root 1, children 2n and
+per policy. Policies: lru, fifo, tree-plru. Invalid ways are filled first, lowest way first.
+tree-plru: one bit per internal node of a binary tree over the ways (root 1, children 2n and
 2n+1, way w is leaf ASSOC+w); bit 0 = left half older, 1 = right half older; a use points the
 bits on its path away from it; the victim follows the bits from the root.
 """
@@ -14,8 +14,8 @@ import sys
 def misses(addrs, size, assoc, line, policy):
     nsets = size // (line * assoc)
     sets = [[] for _ in range(nsets)]        # lru/fifo: tags, oldest first
-    ways = [[None] * assoc for _ in range(nsets)]  # tree_plru: tag per way
-    bits = [[0] * assoc for _ in range(nsets)]     # tree_plru: bits[node], node 1..assoc-1
+    ways = [[None] * assoc for _ in range(nsets)]  # tree-plru: tag per way
+    bits = [[0] * assoc for _ in range(nsets)]     # tree-plru: bits[node], node 1..assoc-1
     count = 0
     for a in addrs:
         block = a // line
@@ -31,7 +31,7 @@ def misses(addrs, size, assoc, line, policy):
             if len(q) == assoc:
                 q.pop(0)
             q.append(tag)
-        elif policy == "tree_plru":
+        elif policy == "tree-plru":
             w = ways[s]
             if tag in w:
                 way = w.index(tag)

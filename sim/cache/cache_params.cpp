@@ -33,9 +33,9 @@ void validate(const CacheParams& p, const std::string& key_prefix) {
   if (!is_known_replacement_policy(p.policy))
     fail(policy_key, "unknown policy \"" + p.policy + "\" (known: " +
                          known_replacement_policies_text() + ")");
-  if (p.policy == "tree_plru" && !std::has_single_bit(p.assoc))
+  if (p.policy == "tree-plru" && !std::has_single_bit(p.assoc))
     fail(assoc_key, std::to_string(p.assoc) + " must be a power of two for " + policy_key +
-                        " = \"tree_plru\"");
+                        " = \"tree-plru\"");
 }
 
 }  // namespace rtusim

@@ -31,10 +31,10 @@ class ReplacementPolicy {
 // Names accepted by make_replacement_policy(), in the order listed in errors.
 const std::vector<std::string>& known_replacement_policies();
 bool is_known_replacement_policy(std::string_view name);
-std::string known_replacement_policies_text();  // "lru, tree_plru, fifo, random"
+std::string known_replacement_policies_text();  // "lru, tree-plru, fifo, random"
 
 // The policy called `name` for `sets` x `ways`; `seed` feeds the random policy. An unknown name
-// throws InputError listing the known ones; tree_plru with a non-power-of-two `ways` throws too.
+// throws InputError listing the known ones; tree-plru with a non-power-of-two `ways` throws too.
 std::unique_ptr<ReplacementPolicy> make_replacement_policy(std::string_view name, uint32_t sets,
                                                            uint32_t ways, uint64_t seed);
 

@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "cache/cache_config.h"
 #include "layout/layout.h"
 #include "util/error.h"
 
@@ -61,6 +62,7 @@ RunConfig load_run_config(const std::string& path, const std::vector<std::string
   c.image.width = static_cast<int>(r.get_int("image.width", 256, 1, 16384));
   c.image.height = static_cast<int>(r.get_int("image.height", 256, 1, 16384));
   c.image.write_png = r.get_bool("image.png", true);
+  c.image.heatmaps = r.get_bool("image.heatmaps", true);
 
   // [tracer]
   c.tracer.max_depth = static_cast<int>(r.get_int("tracer.max_depth", 4, 0, 16));
@@ -83,6 +85,14 @@ RunConfig load_run_config(const std::string& path, const std::vector<std::string
 
   // [layout]
   c.layouts = r.get_string_list("layout.kind", {"dfl"}, layout_kinds());
+
+  // [l1], [dcache]: the caches in front of DRAM
+  c.caches = read_fetch_cache_params(r);
+  r.get_string("l1.model", "cpp", {"cpp"});
+
+  // [sim], [report]
+  c.sim.tier_name = r.get_string("sim.tier", "functional", {"functional"});
+  c.sim.frames_per_second = r.get_float("report.frames_per_second", 30.0, 1e-6, 1e6);
 
   r.reject_unknown_keys();
   c.effective = r.effective();

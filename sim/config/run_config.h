@@ -8,6 +8,7 @@
 
 #include "config/config_reader.h"
 
+#include "cache/stream_caches.h"
 #include "kdtree/kd_tree.h"
 #include "scene/scene.h"
 #include "tracer/tracer_params.h"
@@ -24,6 +25,16 @@ struct ImageParams {
   int width = 256;
   int height = 256;
   bool write_png = true;  // image.png: write the rendered frame
+  bool heatmaps = true;   // image.heatmaps: per-layout DRAM-traffic heatmaps (and ODFL-DFL)
+};
+
+// Which fidelity tier runs the traversal.
+enum class Tier { kFunctional };
+
+struct SimParams {
+  Tier tier = Tier::kFunctional;
+  std::string tier_name = "functional";
+  double frames_per_second = 30.0;  // report.frames_per_second: for GB/s figures
 };
 
 struct RunConfig {
@@ -34,6 +45,8 @@ struct RunConfig {
   TracerParams tracer;
   KdBuildParams kdtree;
   std::vector<std::string> layouts;  // layout.kind, one or more
+  FetchCacheParams caches;           // l1.*, dcache.*
+  SimParams sim;
   toml::table effective;             // every key with the value used
 };
 

@@ -15,6 +15,7 @@ class Stats {
   }
   const nlohmann::json& at(const std::string& key) const { return values_.at(key); }
   bool has(const std::string& key) const { return values_.count(key) != 0; }
+  const std::map<std::string, nlohmann::json>& values() const { return values_; }
   nlohmann::json to_json() const {
     nlohmann::json j = nlohmann::json::object();
     for (const auto& [k, v] : values_) j[k] = v;

@@ -7,7 +7,7 @@ small=(--set image.width=48 --set image.height=40)
 
 "$rtusim" run "$src/configs/default.toml" "${small[@]}" --out "$tmp/a" > "$tmp/a.txt"
 "$rtusim" run "$src/configs/default.toml" "${small[@]}" --out "$tmp/b" > /dev/null
-for f in stats.json config.toml image.png; do
+for f in stats.json config.toml image.png heatmap_dfl.png; do
   [ -s "$tmp/a/$f" ] || { echo "FAIL: missing $f"; exit 1; }
 done
 grep -q "rays" "$tmp/a.txt" || { echo "FAIL: no summary table"; exit 1; }
@@ -17,12 +17,17 @@ python3 - "$tmp/a/stats.json" "$tmp/b/stats.json" "$tmp/a/config.toml" <<'PY'
 import json, sys, tomllib
 a, b = (json.load(open(p)) for p in sys.argv[1:3])
 for k in ["rays.total", "rays.primary", "rays.shadow", "rays.reflection", "rays.refraction",
-          "tree.nodes", "tree.bytes", "traversal.node_fetches", "run.seconds"]:
+          "tree.nodes", "tree.bytes", "traversal.node_fetches", "l1.accesses", "l1.misses",
+          "dram.bytes.nodes", "dram.bytes.lists", "dram.bytes.triangles", "dram.bytes.total",
+          "run.seconds"]:
     assert k in a, f"missing stats key {k}"
 assert a["rays.primary"] == 48 * 40, a["rays.primary"]
 assert a["rays.total"] == sum(a[f"rays.{k}"] for k in ["primary", "shadow", "reflection", "refraction"])
 assert a["rays.reflection"] > 0 and a["rays.refraction"] > 0
 assert a["tree.bytes"] == 8 * a["tree.nodes"], "dfl nodes are 8 bytes"
+assert a["l1.accesses"] == a["traversal.node_fetches"], "8-byte nodes never straddle a line"
+assert a["dram.bytes.nodes"] == 64 * a["l1.misses"]
+assert a["dram.bytes.total"] == a["dram.bytes.nodes"] + a["dram.bytes.lists"] + a["dram.bytes.triangles"]
 # Determinism: identical except timings.
 timing = lambda k: k.endswith("seconds") or k.endswith("per_second")
 da = {k: v for k, v in a.items() if not timing(k)}
@@ -38,5 +43,19 @@ python3 - "$tmp/a/stats.json" "$tmp/c/stats.json" <<'PY'
 import json, sys
 a, c = (json.load(open(p)) for p in sys.argv[1:3])
 assert a["traversal.node_fetches"] == c["traversal.node_fetches"] and a["rays.total"] == c["rays.total"]
+PY
+# Several layouts over the same rays: per-layout keys, identical rays, ODFL's node memory = DFL's.
+"$rtusim" run "$src/configs/default.toml" "${small[@]}" --set 'layout.kind=["dfl","odfl","subtree"]' --out "$tmp/m" > /dev/null
+for f in heatmap_dfl.png heatmap_odfl.png heatmap_subtree.png diff_odfl_dfl.png; do
+  [ -s "$tmp/m/$f" ] || { echo "FAIL: missing $f"; exit 1; }
+done
+python3 - "$tmp/a/stats.json" "$tmp/m/stats.json" <<'PY'
+import json, sys
+a, m = (json.load(open(p)) for p in sys.argv[1:3])
+assert m["rays.total"] == a["rays.total"]
+assert m["layout.dfl.dram.bytes.nodes"] == a["dram.bytes.nodes"], "the first layout's run is the single run"
+assert m["layout.odfl.tree.bytes"] == m["layout.dfl.tree.bytes"]
+assert m["layout.subtree.tree.bytes"] > m["layout.dfl.tree.bytes"]
+assert m["layout.odfl.traversal.node_fetches"] == m["layout.dfl.traversal.node_fetches"], "same visits"
 PY
 echo "run_default: 1 passed, 0 failed"

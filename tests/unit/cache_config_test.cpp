@@ -22,14 +22,14 @@ std::string read_error(const std::string& toml) {
 
 TEST(CacheConfigTest, ReadsL1AndDataCache) {
   ConfigReader r = ConfigReader::from_string(
-      "[l1]\nsize = 16384\nassoc = 8\nline = 32\npolicy = \"tree_plru\"\n"
+      "[l1]\nsize = 16384\nassoc = 8\nline = 32\npolicy = \"tree-plru\"\n"
       "[dcache]\nenable = true\nsize = 4096\npolicy = \"random\"\nseed = 7\n",
       "test.toml");
   const FetchCacheParams p = read_fetch_cache_params(r);
   EXPECT_EQ(p.node_l1.size_bytes, 16384u);
   EXPECT_EQ(p.node_l1.assoc, 8u);
   EXPECT_EQ(p.node_l1.line_bytes, 32u);
-  EXPECT_EQ(p.node_l1.policy, "tree_plru");
+  EXPECT_EQ(p.node_l1.policy, "tree-plru");
   ASSERT_TRUE(p.data_cache.has_value());
   EXPECT_EQ(p.data_cache->size_bytes, 4096u);
   EXPECT_EQ(p.data_cache->assoc, 4u);  // default

@@ -117,7 +117,7 @@ TEST(CacheTest, TreePlruDiffersFromLruInCache) {
   // One set of 4 ways: A B C D fill ways 0..3, E evicts A in both; then F evicts C under
   // tree-PLRU (the root bit points right after E refilled way 0) but B under LRU.
   const uint64_t A = 0, B = 64, C = 128, D = 192, E = 256, F = 320;
-  SetAssocCache plru(geometry(256, 4, 64, "tree_plru"));
+  SetAssocCache plru(geometry(256, 4, 64, "tree-plru"));
   SetAssocCache lru(geometry(256, 4, 64, "lru"));
   for (SetAssocCache* c : {&plru, &lru})
     for (uint64_t a : {A, B, C, D, E, F}) c->access(a);
@@ -172,7 +172,7 @@ TEST(CacheTest, RuntimePolicyMatchesConcreteAndVirtual) {
     EXPECT_STREQ(through_virtual.policy_name(), policy.c_str());
     uint64_t concrete_misses = 0;
     if (policy == "lru") concrete_misses = BasicSetAssocCache<LruPolicy>(p).replay(trace);
-    if (policy == "tree_plru") concrete_misses = BasicSetAssocCache<TreePlruPolicy>(p).replay(trace);
+    if (policy == "tree-plru") concrete_misses = BasicSetAssocCache<TreePlruPolicy>(p).replay(trace);
     if (policy == "fifo") concrete_misses = BasicSetAssocCache<FifoPolicy>(p).replay(trace);
     if (policy == "random") concrete_misses = BasicSetAssocCache<RandomPolicy>(p).replay(trace);
     uint64_t runtime_misses = 0;
@@ -202,11 +202,11 @@ TEST(CacheTest, ValidationNamesTheKey) {
             "l1.size: 128 is smaller than l1.line x l1.assoc (256)");
   EXPECT_EQ(validation_error(geometry(96 * 256, 4, 64, "lru")).rfind("l1.size: 24576 gives 96 sets", 0), 0u);
   EXPECT_EQ(validation_error(geometry(8192, 4, 64, "mru")),
-            "l1.policy: unknown policy \"mru\" (known: lru, tree_plru, fifo, random)");
-  EXPECT_EQ(validation_error(geometry(768, 3, 64, "tree_plru")),
-            "l1.assoc: 3 must be a power of two for l1.policy = \"tree_plru\"");
+            "l1.policy: unknown policy \"mru\" (known: lru, tree-plru, fifo, random)");
+  EXPECT_EQ(validation_error(geometry(768, 3, 64, "tree-plru")),
+            "l1.assoc: 3 must be a power of two for l1.policy = \"tree-plru\"");
   EXPECT_EQ(validation_error(geometry(768, 3, 64, "lru")), "");   // 4 sets of 3 ways
-  EXPECT_EQ(validation_error(geometry(512, 8, 64, "tree_plru")), "");  // fully associative
+  EXPECT_EQ(validation_error(geometry(512, 8, 64, "tree-plru")), "");  // fully associative
   EXPECT_EQ(validation_error(geometry(8192, 4, 64, "lru")), "");
   EXPECT_THROW(SetAssocCache(geometry(8000, 4, 64, "lru")), InputError);
 }
@@ -218,7 +218,7 @@ TEST(CacheTest, FactoryChoosesByName) {
     make_replacement_policy("mru", 4, 4, 1);
     FAIL() << "no error for an unknown policy";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("lru, tree_plru, fifo, random"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("lru, tree-plru, fifo, random"), std::string::npos);
   }
 }
 
@@ -275,12 +275,12 @@ TEST(CacheTest, MatchesPythonReferenceModel) {
     uint64_t size;
     uint32_t assoc, line;
   };
-  const std::vector<std::string> policies = {"lru", "fifo", "tree_plru"};
+  const std::vector<std::string> policies = {"lru", "fifo", "tree-plru"};
   for (const Geometry g : {Geometry{8192, 4, 64}, Geometry{4096, 2, 32}, Geometry{16384, 8, 64},
                            Geometry{1024, 1, 64}, Geometry{512, 8, 64}}) {
     const std::string command = "python3 '" + script.string() + "' '" + trace_path.string() +
                                 "' " + std::to_string(g.size) + " " + std::to_string(g.assoc) +
-                                " " + std::to_string(g.line) + " lru,fifo,tree_plru";
+                                " " + std::to_string(g.line) + " lru,fifo,tree-plru";
     std::map<std::string, uint64_t> expected;
     std::istringstream lines(run_capture(command));
     std::string name;

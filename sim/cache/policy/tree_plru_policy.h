@@ -29,7 +29,7 @@ namespace rtusim {
 
 class TreePlruPolicy final : public ReplacementPolicy {
  public:
-  static constexpr const char* kName = "tree_plru";
+  static constexpr const char* kName = "tree-plru";
   TreePlruPolicy(uint32_t sets, uint32_t ways, uint64_t /*seed*/)
       : ways_(ways), levels_(static_cast<uint32_t>(std::countr_zero(ways))),
         bits_(uint64_t{sets} * ways, 0) {

@@ -1,0 +1,99 @@
+// Runs the frame through the functional tier for each layout and gathers the stats.
+#include "app/simulation.h"
+
+#include <chrono>
+#include <cstring>
+#include <stdexcept>
+
+#include "tier/functional_backend.h"
+
+namespace rtusim {
+namespace {
+
+void add_run_stats(const Prepared& p, const FrameResult& frame, Stats& s) {
+  const KdTreeReport& r = p.tree.report;
+  s.set("scene.triangles", p.scene.triangle_count());
+  s.set("scene.materials", p.scene.materials.size());
+  s.set("scene.lights", p.scene.lights.size());
+  s.set("scene.bytes", p.scene.geometry_bytes());
+  s.set("scene.load_seconds", p.scene_load_seconds);
+  s.set("tree.nodes", r.nodes);
+  s.set("tree.leaves", r.leaves);
+  s.set("tree.empty_leaves", r.empty_leaves);
+  s.set("tree.max_depth", r.max_depth);
+  s.set("tree.mean_leaf_depth", r.mean_leaf_depth);
+  s.set("tree.refs_per_triangle", r.refs_per_triangle);
+  s.set("tree.sah_cost", r.sah_cost);
+  s.set("tree.build_seconds", r.build_seconds);
+  s.set("tree.build_peak_bytes", r.peak_build_bytes);
+  s.set("rays.total", frame.rays_total());
+  s.set("rays.primary", frame.rays_by_kind[int(RayKind::kPrimary)]);
+  s.set("rays.shadow", frame.rays_by_kind[int(RayKind::kShadow)]);
+  s.set("rays.reflection", frame.rays_by_kind[int(RayKind::kReflection)]);
+  s.set("rays.refraction", frame.rays_by_kind[int(RayKind::kRefraction)]);
+  s.set("sim.tier", p.config.sim.tier_name);
+  s.set("report.frames_per_second", p.config.sim.frames_per_second);
+}
+
+void add_layout_stats(const MemoryImage& image, const FunctionalBackend& backend,
+                      const FrameResult& frame, double fps, double seconds, Stats& s) {
+  s.set("layout.kind", image.layout);
+  s.set("tree.bytes", image.nodes.size_bytes);
+  s.set("mem.nodes.bytes", image.nodes.size_bytes);
+  s.set("mem.lists.bytes", image.lists.size_bytes);
+  s.set("mem.triangles.bytes", image.triangles.size_bytes);
+  s.set("mem.image.bytes", image.bytes.size());
+  const FetchCache& c = backend.caches();
+  s.set("traversal.node_fetches", c.stream(Stream::kNode).fetches);
+  s.set("traversal.list_fetches", c.stream(Stream::kList).fetches);
+  s.set("traversal.triangle_fetches", c.stream(Stream::kTriangle).fetches);
+  c.write_stats(s);
+  const double rays = static_cast<double>(std::max<uint64_t>(1, frame.rays_total()));
+  const uint64_t node_bytes = c.stream(Stream::kNode).dram_bytes;
+  const auto& l1 = c.stream(Stream::kNode);
+  s.set("l1.miss_rate", l1.accesses ? double(l1.misses) / double(l1.accesses) : 0.0);
+  s.set("report.node_dram_bytes_per_ray", double(node_bytes) / rays);
+  s.set("report.dram_bytes_per_frame", c.dram_bytes_total());
+  s.set("report.node_gbytes_per_second", double(node_bytes) * fps / 1e9);
+  s.set("report.dram_gbytes_per_second", double(c.dram_bytes_total()) * fps / 1e9);
+  s.set("trace.seconds", seconds);
+  s.set("trace.rays_per_second", seconds > 0 ? rays / seconds : 0.0);
+}
+
+}  // namespace
+
+SimulationResult simulate(const Prepared& p) {
+  SimulationResult result;
+  const int w = p.config.image.width, h = p.config.image.height;
+  const PinholeCamera camera(p.camera, w, h);
+  for (const MemoryImage& image : p.images) {
+    // The same rays for every layout: hits do not depend on the layout, so neither do rays.
+    FunctionalBackend backend(image, p.config.caches, static_cast<uint32_t>(w * h));
+    WhittedTracer tracer(p.scene, p.config.tracer, backend);
+    const auto t0 = std::chrono::steady_clock::now();
+    FrameResult frame = tracer.render(camera, w, h);
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (!result.layouts.empty() &&
+        (frame.rays_by_kind != result.frame.rays_by_kind ||
+         std::memcmp(frame.radiance.data(), result.frame.radiance.data(),
+                     frame.radiance.size() * sizeof(glm::vec3)) != 0))
+      throw std::logic_error("layout " + image.layout + " changed the frame: a layout bug");
+
+    LayoutRun run;
+    run.kind = image.layout;
+    add_layout_stats(image, backend, frame, p.config.sim.frames_per_second, seconds, run.stats);
+    run.pixel_dram_bytes = backend.pixel_dram_bytes();
+    if (result.layouts.empty()) result.frame = std::move(frame);
+    result.layouts.push_back(std::move(run));
+  }
+
+  add_run_stats(p, result.frame, result.stats);
+  for (const auto& [k, v] : result.layouts.front().stats.values()) result.stats.set(k, v);
+  if (result.layouts.size() > 1)
+    for (const LayoutRun& run : result.layouts)
+      for (const auto& [k, v] : run.stats.values()) result.stats.set("layout." + run.kind + "." + k, v);
+  return result;
+}
+
+}  // namespace rtusim
