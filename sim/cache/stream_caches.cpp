@@ -17,12 +17,6 @@ FetchCache::FetchCache(const FetchCacheParams& p) : node_l1_(make_cache(p.node_l
   if (p.data_cache) data_cache_.emplace(make_cache(*p.data_cache, "dcache"));
 }
 
-uint64_t FetchCache::dram_bytes_total() const {
-  uint64_t total = 0;
-  for (const auto& c : counters_) total += c.dram_bytes;
-  return total;
-}
-
 const char* stream_stats_name(Stream s) {
   switch (s) {
     case Stream::kNode: return "nodes";

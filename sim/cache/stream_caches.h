@@ -61,8 +61,21 @@ class FetchCache {
     }
   }
 
+  // Calls f(sink) with a sink equivalent to this FetchCache whose node stream goes to the
+  // concrete node-L1 type, so a traversal loop over `sink` inlines the L1 lookup: the policy is
+  // dispatched once per call instead of once per fetch.
+  template <class F>
+  void with_inlined_node_l1(F&& f) {
+    node_l1_.visit([&](auto& l1) {
+      InlinedSink<std::remove_reference_t<decltype(l1)>> sink{*this, l1};
+      f(sink);
+    });
+  }
+
   const StreamCounters& stream(Stream s) const { return counters_[static_cast<int>(s)]; }
-  uint64_t dram_bytes_total() const;
+  uint64_t dram_bytes_total() const {
+    return counters_[0].dram_bytes + counters_[1].dram_bytes + counters_[2].dram_bytes;
+  }
   const SetAssocCache& node_l1() const { return node_l1_; }
   const SetAssocCache* data_cache() const { return data_cache_ ? &*data_cache_ : nullptr; }
 
@@ -72,7 +85,21 @@ class FetchCache {
   void write_stats(Stats& stats) const;
 
  private:
-  static void count(StreamCounters& c, SetAssocCache& cache, uint64_t addr, uint32_t bytes) {
+  template <class Concrete>
+  struct InlinedSink {
+    FetchCache& caches;
+    Concrete& node_l1;
+    void fetch(Stream s, uint64_t addr, uint32_t bytes) {
+      if (s != Stream::kNode) return caches.fetch(s, addr, bytes);
+      StreamCounters& c = caches.counters_[static_cast<int>(Stream::kNode)];
+      ++c.fetches;
+      if (bytes != 0) count_in(c, node_l1, addr, bytes);
+    }
+  };
+
+  // Counts one fetch of `bytes` at `addr` through a concrete cache.
+  template <class Concrete>
+  static void count_in(StreamCounters& c, Concrete& cache, uint64_t addr, uint32_t bytes) {
     const uint64_t accesses_before = cache.accesses();
     const uint32_t missed = cache.access_range(addr, bytes);
     const uint64_t accessed = cache.accesses() - accesses_before;
@@ -80,6 +107,10 @@ class FetchCache {
     c.hits += accessed - missed;
     c.misses += missed;
     c.dram_bytes += uint64_t{missed} * cache.params().line_bytes;
+  }
+
+  static void count(StreamCounters& c, SetAssocCache& cache, uint64_t addr, uint32_t bytes) {
+    cache.visit([&](auto& concrete) { count_in(c, concrete, addr, bytes); });  // one dispatch
   }
 
   SetAssocCache node_l1_;

@@ -11,13 +11,15 @@ FunctionalBackend::FunctionalBackend(const MemoryImage& image, const FetchCacheP
     : image_(image), caches_(caches), pixel_dram_bytes_(pixels, 0) {}
 
 void FunctionalBackend::trace(std::span<const RayRecord> rays, std::span<Hit> hits) {
-  with_layout_decoder(image_, [&]<class Decoder>() {
-    for (size_t i = 0; i < rays.size(); ++i) {
-      const uint64_t before = caches_.dram_bytes_total();
-      hits[i] = traverse<Decoder>(image_, rays[i].ray, rays[i].any_hit(), caches_);
-      if (rays[i].pixel < pixel_dram_bytes_.size())
-        pixel_dram_bytes_[rays[i].pixel] += caches_.dram_bytes_total() - before;
-    }
+  caches_.with_inlined_node_l1([&](auto& sink) {
+    with_layout_decoder(image_, [&]<class Decoder>() {
+      for (size_t i = 0; i < rays.size(); ++i) {
+        const uint64_t before = caches_.dram_bytes_total();
+        hits[i] = traverse<Decoder>(image_, rays[i].ray, rays[i].any_hit(), sink);
+        if (rays[i].pixel < pixel_dram_bytes_.size())
+          pixel_dram_bytes_[rays[i].pixel] += caches_.dram_bytes_total() - before;
+      }
+    });
   });
 }
 
