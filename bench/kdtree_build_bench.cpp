@@ -1,7 +1,6 @@
 // Build benchmark of the SAH kd-tree builder: synthetic scenes (a grid of tessellated spheres of
-// ~1M triangles, random soups), plus any glTF files given on the command line (read here with a
-// throwaway tinygltf reader: positions and indices of every primitive, no transforms, since the
-// shared scenes are flattened to world space).
+// ~1M triangles, random soups), or the glTF files given on the command line. Peak RSS is read
+// after each build: run one scene per process to see one scene's peak.
 #include <sys/resource.h>
 
 #include <cmath>
@@ -12,9 +11,8 @@
 #include <string>
 #include <vector>
 
-#include <tiny_gltf.h>
-
 #include "kdtree/sah_builder.h"
+#include "scene/gltf_loader.h"
 #include "scene/scene.h"
 
 namespace {
@@ -67,56 +65,6 @@ Scene random_soup(uint32_t count, float size, uint32_t seed) {
   return scene;
 }
 
-// Throwaway glTF reader: every triangle primitive's positions and indices.
-bool load_gltf(const std::string& path, Scene& scene) {
-  tinygltf::Model model;
-  tinygltf::TinyGLTF loader;
-  std::string err, warn;
-  if (!loader.LoadASCIIFromFile(&model, &err, &warn, path)) {
-    std::fprintf(stderr, "%s: %s\n", path.c_str(), err.c_str());
-    return false;
-  }
-  scene.source = path;
-  for (const tinygltf::Mesh& mesh : model.meshes)
-    for (const tinygltf::Primitive& prim : mesh.primitives) {
-      if (prim.mode != TINYGLTF_MODE_TRIANGLES || prim.indices < 0) continue;
-      const auto pos_it = prim.attributes.find("POSITION");
-      if (pos_it == prim.attributes.end()) continue;
-      const tinygltf::Accessor& pa = model.accessors[pos_it->second];
-      const tinygltf::BufferView& pv = model.bufferViews[pa.bufferView];
-      const uint8_t* pdata = model.buffers[pv.buffer].data.data() + pv.byteOffset + pa.byteOffset;
-      const size_t pstride = pv.byteStride ? pv.byteStride : 12;
-      const uint32_t base = static_cast<uint32_t>(scene.positions.size());
-      for (size_t i = 0; i < pa.count; ++i) {
-        glm::vec3 p;
-        std::memcpy(&p, pdata + i * pstride, sizeof p);
-        scene.positions.push_back(p);
-      }
-      const tinygltf::Accessor& ia = model.accessors[prim.indices];
-      const tinygltf::BufferView& iv = model.bufferViews[ia.bufferView];
-      const uint8_t* idata = model.buffers[iv.buffer].data.data() + iv.byteOffset + ia.byteOffset;
-      auto index = [&](size_t i) -> uint32_t {
-        switch (ia.componentType) {
-          case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return idata[i];
-          case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
-            uint16_t v;
-            std::memcpy(&v, idata + 2 * i, 2);
-            return v;
-          }
-          default: {
-            uint32_t v;
-            std::memcpy(&v, idata + 4 * i, 4);
-            return v;
-          }
-        }
-      };
-      for (size_t i = 0; i + 2 < ia.count; i += 3)
-        scene.triangles.push_back({base + index(i), base + index(i + 1), base + index(i + 2)});
-    }
-  scene.triangle_material.assign(scene.triangles.size(), 0);
-  return true;
-}
-
 void bench(const std::string& name, const Scene& scene) {
   const rtusim::KdBuildParams params;
   const rtusim::KdTree tree = rtusim::build_sah_kd_tree(scene, params);
@@ -140,9 +88,7 @@ int main(int argc, char** argv) {
   // With arguments: only the given glTF files. Without: the synthetic set.
   if (argc > 1) {
     for (int i = 1; i < argc; ++i) {
-      Scene scene;
-      if (!load_gltf(argv[i], scene)) return 1;
-      bench(argv[i], scene);
+      bench(argv[i], rtusim::load_gltf(argv[i]));
     }
     return 0;
   }
