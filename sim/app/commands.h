@@ -12,7 +12,27 @@ struct RunOptions {
   std::string out;                     // --out DIR (run) or FILE (hits)
 };
 
+struct TraceOptions {
+  std::string config;
+  std::vector<std::string> overrides;  // --set KEY=VALUE
+  std::string out;                     // --out FILE
+  std::string format = "din";          // --format din|bin
+};
+
+struct ReplayOptions {
+  std::string trace;                   // a bin or din trace file
+  std::vector<std::string> overrides;  // --set l1.*=VALUE
+};
+
+struct RegressOptions {
+  std::string dir;      // reference cases (default: traces/ beside the project)
+  bool update = false;  // --update: rewrite every expected.json (scripts/update_references.sh)
+};
+
 int run_command(const RunOptions& opts);
 int hits_command(const RunOptions& opts);
+int trace_command(const TraceOptions& opts);
+int replay_command(const ReplayOptions& opts);
+int regress_command(const RegressOptions& opts);
 
 }  // namespace rtusim

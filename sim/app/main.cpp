@@ -25,6 +25,27 @@ int main(int argc, char** argv) {
       ->allow_extra_args(false);
   hits->add_option("--out", hits_opts.out, "Output file")->required();
 
+  TraceOptions trace_opts;
+  auto* trace = app.add_subcommand("trace", "Write the node-fetch address stream (din or bin)");
+  trace->add_option("config", trace_opts.config, "TOML run config (one layout)")->required();
+  trace->add_option("--set", trace_opts.overrides, "Override a config key: KEY=VALUE")
+      ->allow_extra_args(false);
+  trace->add_option("--out", trace_opts.out, "Output trace file")->required();
+  trace->add_option("--format", trace_opts.format, "din (Dinero IV, default) or bin")
+      ->check(CLI::IsMember({"din", "bin"}));
+
+  ReplayOptions replay_opts;
+  auto* replay = app.add_subcommand("replay", "Replay a node trace through one cache (l1.*)");
+  replay->add_option("trace", replay_opts.trace, "bin or din trace file")->required();
+  replay->add_option("--set", replay_opts.overrides, "Cache parameter: l1.size/assoc/line/policy=V")
+      ->allow_extra_args(false);
+
+  RegressOptions regress_opts;
+  auto* regress = app.add_subcommand("regress", "Rerun the reference cases; report every mismatch");
+  regress->add_option("dir", regress_opts.dir, "Directory of cases (default: traces/ of the project)");
+  regress->add_flag("--update", regress_opts.update,
+                    "Rewrite every expected.json from this build (scripts/update_references.sh)");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -39,6 +60,9 @@ int main(int argc, char** argv) {
   try {
     if (*run) return run_command(run_opts);
     if (*hits) return hits_command(hits_opts);
+    if (*trace) return trace_command(trace_opts);
+    if (*replay) return replay_command(replay_opts);
+    if (*regress) return regress_command(regress_opts);
   } catch (const InputError& e) {
     std::cerr << "rtusim: " << e.what() << "\n";
     return 2;

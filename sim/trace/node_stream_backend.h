@@ -1,0 +1,41 @@
+// A TraceBackend that records the node-fetch address stream: it traverses every ray batch the
+// tracer hands it (the whole Whitted frame, in the configured ray order) through the same
+// traversal step as the functional tier, and passes each node fetch address, in issue order, to
+// a recorder. Lists and triangles are fetched but not recorded.
+#pragma once
+#include <cstdint>
+
+#include "layout/memory_image.h"
+#include "tracer/ray_batch.h"
+
+namespace rtusim {
+
+// Receives node fetch addresses in issue order.
+class NodeStreamRecorder {
+ public:
+  virtual ~NodeStreamRecorder() = default;
+  virtual void node_fetch(uint64_t addr) = 0;
+};
+
+class NodeStreamBackend final : public TraceBackend {
+ public:
+  NodeStreamBackend(const MemoryImage& image, NodeStreamRecorder& recorder)
+      : image_(image), recorder_(recorder) {}
+  void trace(std::span<const RayRecord> rays, std::span<Hit> hits) override;
+
+ private:
+  const MemoryImage& image_;
+  NodeStreamRecorder& recorder_;
+};
+
+struct Prepared;
+class TraceWriter;
+struct TraceDigest;
+
+// Traces the prepared run's frame over `image` and returns the node stream's count and
+// checksum (what `rtusim regress` records as trace.node_stream.*).
+TraceDigest node_stream_digest(const Prepared& p, const MemoryImage& image);
+// Traces the frame over `image` into `writer` (not finished).
+void write_node_stream(const Prepared& p, const MemoryImage& image, TraceWriter& writer);
+
+}  // namespace rtusim

@@ -1,0 +1,155 @@
+// Node-fetch address traces: the Dinero IV "din" text format and rtusim's compact "bin" format,
+// a writer for each and one reader for both.
+//
+// din (Dinero IV traditional format): one line per fetch, "0 <address>\n", the address in
+// lowercase hex without 0x ("0 1a40"). Label 0 = data read. No header, so no layout, node size or
+// checksum; the reader accepts any label 0/1/2 line and blank lines.
+//
+// bin (little endian throughout):
+//   offset  size  field
+//        0     8  magic "RTUTRACE"
+//        8     4  u32 version (kBinVersion = 1)
+//       12     4  u32 node_bytes: bytes read per fetch (8 for dfl/odfl, 12 for subtree)
+//       16     8  u64 scene_hash: FNV-1a 64 over the memory image's bytes (nodes, lists,
+//                 triangles), so a trace names the exact tree it was taken from
+//       24     8  u64 count: records (fetches)
+//       32     8  u64 checksum: trace_checksum() of the addresses, in order
+//       40     8  u64 payload_bytes: bytes of the encoded addresses after the header
+//       48     4  u32 layout_len: length of the layout name (1..64)
+//       52     L  layout name ("dfl", "odfl", "subtree"), no terminator
+//     52+L     P  payload: per record, the signed difference from the previous address
+//                 (the first from 0), zig-zag mapped (d >= 0 -> 2d, d < 0 -> -2d - 1) and written
+//                 as an unsigned LEB128 varint (7 bits per byte, low first, high bit = more).
+//                 Arithmetic is modulo 2^64. A depth-first step to the next 8-byte node is the
+//                 one byte 0x10.
+// The file ends exactly after the payload.
+//
+// Checksum (trace_checksum): an FNV-1a 64 variant over 64-bit words: h = 0xcbf29ce484222325;
+// per address a: h = (h ^ a) * 0x100000001b3. Each step is a bijection of h, so any single
+// changed, lost or added address changes the result. `rtusim regress` records it as
+// trace.node_stream.checksum (16 lowercase hex digits).
+#pragma once
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "layout/memory_image.h"
+
+namespace rtusim {
+
+enum class TraceFormat { kDin, kBin };
+
+inline constexpr char kBinMagic[8] = {'R', 'T', 'U', 'T', 'R', 'A', 'C', 'E'};
+inline constexpr uint32_t kBinVersion = 1;
+inline constexpr uint32_t kBinFixedHeaderBytes = 52;
+inline constexpr uint32_t kMaxLayoutNameBytes = 64;
+
+inline constexpr uint64_t kFnvOffset = 0xcbf29ce484222325ull;
+inline constexpr uint64_t kFnvPrime = 0x100000001b3ull;
+
+// Count and checksum of an address stream, updated one address at a time.
+struct TraceDigest {
+  uint64_t count = 0;
+  uint64_t checksum = kFnvOffset;
+  void add(uint64_t addr) {
+    ++count;
+    checksum = (checksum ^ addr) * kFnvPrime;
+  }
+};
+
+uint64_t trace_checksum(std::span<const uint64_t> addrs);
+// FNV-1a 64 over bytes (the scene hash of a bin trace).
+uint64_t fnv1a_bytes(std::span<const uint8_t> bytes, uint64_t h = kFnvOffset);
+// The scene hash of an image: FNV-1a 64 over all its bytes.
+uint64_t image_hash(const MemoryImage& image);
+// 16 lowercase hex digits.
+std::string hex64(uint64_t v);
+
+// Writes one trace file; append() per fetch, then finish(). Throws std::runtime_error on a
+// write failure (an internal error: the path was checked before).
+class TraceWriter {
+ public:
+  // `layout`, `node_bytes` and `scene_hash` go in the bin header (ignored by din).
+  TraceWriter(const std::filesystem::path& path, TraceFormat format, const std::string& layout,
+              uint32_t node_bytes, uint64_t scene_hash);
+  ~TraceWriter();
+  TraceWriter(const TraceWriter&) = delete;
+  TraceWriter& operator=(const TraceWriter&) = delete;
+
+  void append(uint64_t addr) {
+    if (buf_.size() - used_ < kMaxRecordBytes) flush_buffer();
+    digest_.add(addr);
+    if (format_ == TraceFormat::kBin) {
+      const uint64_t d = addr - prev_;
+      prev_ = addr;
+      uint64_t z = (d << 1) ^ (0 - (d >> 63));  // zig-zag of the signed difference
+      while (z >= 0x80) {
+        buf_[used_++] = static_cast<uint8_t>(z | 0x80);
+        z >>= 7;
+      }
+      buf_[used_++] = static_cast<uint8_t>(z);
+    } else {
+      append_din(addr);
+    }
+  }
+  // Completes the file (the bin header's count, checksum and payload size). Call once.
+  void finish();
+  const TraceDigest& digest() const { return digest_; }
+
+ private:
+  static constexpr size_t kMaxRecordBytes = 24;  // "0 " + 16 hex digits + "\n"; varint <= 10
+  void append_din(uint64_t addr);
+  void flush_buffer();
+  void write_header();
+
+  std::filesystem::path path_;
+  TraceFormat format_;
+  std::string layout_;
+  uint32_t node_bytes_;
+  uint64_t scene_hash_;
+  std::FILE* file_ = nullptr;
+  std::vector<uint8_t> buf_;
+  size_t used_ = 0;
+  uint64_t prev_ = 0;
+  uint64_t payload_bytes_ = 0;
+  TraceDigest digest_;
+};
+
+// What a trace file says about itself (din: only format and count).
+struct TraceHeader {
+  TraceFormat format = TraceFormat::kDin;
+  uint32_t version = 0;
+  uint32_t node_bytes = 0;  // 0 = unknown (din)
+  uint64_t scene_hash = 0;
+  uint64_t count = 0;
+  uint64_t checksum = 0;
+  uint64_t payload_bytes = 0;
+  std::string layout;  // "" for din
+};
+
+// Reads a bin or din trace (told apart by the magic). The constructor reads the file and checks
+// the header; decode() checks the payload. Every error is an InputError "FILE: what is wrong"
+// (truncated, bad magic, unsupported version, checksum mismatch, bad din line N ...).
+class TraceReader {
+ public:
+  explicit TraceReader(const std::filesystem::path& path);
+  const TraceHeader& header() const { return header_; }
+  // The addresses, in order; verifies count, payload size and checksum (bin).
+  std::vector<uint64_t> decode() const;
+
+ private:
+  [[noreturn]] void fail(const std::string& what) const;
+  void parse_bin_header();
+  std::vector<uint64_t> decode_bin() const;
+  std::vector<uint64_t> decode_din() const;
+
+  std::string name_;
+  std::vector<uint8_t> data_;
+  size_t payload_offset_ = 0;
+  TraceHeader header_;
+};
+
+}  // namespace rtusim
