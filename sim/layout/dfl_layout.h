@@ -4,6 +4,7 @@
 #include <cstdint>
 
 #include "layout/layout.h"
+#include "layout/depth_first_writer.h"
 #include "layout/node_view.h"
 
 namespace rtusim {
@@ -22,20 +23,11 @@ class DflLayout final : public Layout {
 
   // Decodes the node at `addr` of an image this layout wrote.
   static NodeView decode(const MemoryImage& image, uint64_t addr) {
-    const uint64_t raw = image.load<uint64_t>(addr);
-    const uint32_t w0 = static_cast<uint32_t>(raw), w1 = static_cast<uint32_t>(raw >> 32);
     NodeView v;
-    v.axis = w0 & 3u;
-    v.leaf = v.axis == 3u;
-    if (v.leaf) {
-      v.prim_count = w0 >> 2;
-      v.inline_prim = w1;
-      v.list_addr = image.lists.base_addr + uint64_t{w1} * sizeof(uint32_t);
-    } else {
-      std::memcpy(&v.split, &w1, sizeof(float));
-      v.below_addr = addr + kNodeBytes;
-      v.above_addr = image.nodes.base_addr + uint64_t{w0 >> 2} * kNodeBytes;
-    }
+    uint32_t w0;
+    if (decode_depth_first_common(image, addr, v, w0)) return v;
+    v.below_addr = addr + kNodeBytes;
+    v.above_addr = image.nodes.base_addr + uint64_t{w0 >> 2} * kNodeBytes;
     return v;
   }
 };

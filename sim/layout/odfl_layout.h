@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "layout/layout.h"
+#include "layout/depth_first_writer.h"
 #include "layout/node_view.h"
 
 namespace rtusim {
@@ -31,23 +32,14 @@ class OdflLayout final : public Layout {
 
   // Decodes the node at `addr` of an image this layout wrote.
   static NodeView decode(const MemoryImage& image, uint64_t addr) {
-    const uint64_t raw = image.load<uint64_t>(addr);
-    const uint32_t w0 = static_cast<uint32_t>(raw), w1 = static_cast<uint32_t>(raw >> 32);
     NodeView v;
-    v.axis = w0 & 3u;
-    v.leaf = v.axis == 3u;
-    if (v.leaf) {
-      v.prim_count = w0 >> 2;
-      v.inline_prim = w1;
-      v.list_addr = image.lists.base_addr + uint64_t{w1} * sizeof(uint32_t);
-    } else {
-      std::memcpy(&v.split, &w1, sizeof(float));
-      const uint64_t adjacent = addr + kNodeBytes;
-      const uint64_t other = image.nodes.base_addr + uint64_t{w0 >> 3} * kNodeBytes;
-      const bool above_adjacent = (w0 & kReorderBit) != 0;
-      v.below_addr = above_adjacent ? other : adjacent;
-      v.above_addr = above_adjacent ? adjacent : other;
-    }
+    uint32_t w0;
+    if (decode_depth_first_common(image, addr, v, w0)) return v;
+    const uint64_t adjacent = addr + kNodeBytes;
+    const uint64_t other = image.nodes.base_addr + uint64_t{w0 >> 3} * kNodeBytes;
+    const bool above_is_adjacent = (w0 & kReorderBit) != 0;
+    v.below_addr = above_is_adjacent ? other : adjacent;
+    v.above_addr = above_is_adjacent ? adjacent : other;
     return v;
   }
 
