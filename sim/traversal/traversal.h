@@ -118,11 +118,10 @@ template <class Decoder, class Sink>
       }
     } else {
       // Decisions are conservative by the rounding error of t_plane (the operands' ulps, in t,
-      // plus a relative margin): a ray that passes through a leaf's closed box, even at one
-      // corner point, visits it, so hits on shared edges and vertices never slip between
-      // leaves.
-      const float slack = (std::abs(n.split) + std::abs(o)) * std::abs(s.inv_dir[a]) * 0x1p-20f +
-                          std::abs(t_plane) * 0x1p-20f;
+      // plus a relative margin; |t_plane| <= (|split| + |o|) |1/d|, so one product bounds
+      // both): a ray that passes through a leaf's closed box, even at one corner point, visits
+      // it, so hits on shared edges and vertices never slip between leaves.
+      const float slack = (std::abs(n.split) + std::abs(o)) * std::abs(s.inv_dir[a]) * 0x1p-19f;
       if (t_plane - slack > s.t_max || t_plane <= 0.0f) {
         s.node = near;  // the plane lies beyond the interval or behind the origin
       } else if (t_plane + slack < s.t_min) {
