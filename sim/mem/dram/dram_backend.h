@@ -20,7 +20,8 @@ class Stats;
 struct DramRequest {
   uint64_t id = 0;          // chosen by the caller, returned in the completion
   uint64_t addr = 0;
-  uint32_t bytes = 0;       // whole bursts are transferred
+  uint32_t bytes = 0;       // counted as asked; takes whole bursts of bus time (a shorter
+                            // one is a burst chop)
   uint64_t arrival_ps = 0;  // when the request reaches the controller's queue
   Stream stream = Stream::kNode;
 };

@@ -79,7 +79,7 @@ void FrFcfsDram::advance(uint64_t now_ps, std::vector<DramCompletion>& out) {
       b.open_row = q.loc.row;
       b.ready_ps = column + bursts * tBurst_;
       ++requests_;
-      bytes_[static_cast<int>(q.req.stream)] += uint64_t{bursts} * p_.burst_bytes();
+      bytes_[static_cast<int>(q.req.stream)] += q.req.bytes;
       busy_until_ps_ = std::max(busy_until_ps_, done);
       out.push_back({q.req.id, done});
     }
