@@ -79,64 +79,76 @@ L1Cache::Result L1Cache::access(tlm::tlm_generic_payload& trans, uint64_t t,
   const uint64_t now = now_ps();
   const uint64_t addr = trans.get_address();
   const uint64_t line = addr >> offset_bits_;
+  // One pass: a busy MSHR for the line (a merge), and how many are busy at t.
+  uint32_t busy = 0;
   for (Mshr& m : mshrs_) {
-    if (m.in_use && m.fill_ps != kUnknown && m.fill_ps <= now) m.in_use = false;  // long filled
-    if (m.busy_at(t) && m.line == line) {
+    if (!m.busy_at(t)) continue;
+    ++busy;
+    if (m.line == line) {
       ++merged_;
       tags_.access(addr);  // the replacement state sees every access
       if (m.fill_ps != kUnknown) return {Result::kDone, m.fill_ps};
-      m.waiters.push_back(&trans);
+      m.port->waiters.push_back(&trans);
       return {Result::kPending, 0};
     }
   }
-  if (tags_.contains(addr)) {
-    tags_.access(addr);
-    ++hits_;
-    return {Result::kDone, t + hit_ps_};
-  }
-  // A primary miss: wait for an MSHR (behind any request already waiting).
-  if (!retry && !stalled_.empty()) {
-    stalled_.push_back({&trans, t});
-    return {Result::kStalled, 0};
-  }
-  const uint64_t free_ps = free_mshr_time(t);
-  if (free_ps == kUnknown) {
-    stalled_.push_back({&trans, t});
-    return {Result::kStalled, 0};
+  uint64_t free_ps = t;
+  if (busy < p_.mshrs && (retry || stalled_.empty())) {
+    // No stall possible: one tag access decides hit or primary miss.
+    if (tags_.access(addr)) {
+      ++hits_;
+      return {Result::kDone, t + hit_ps_};
+    }
+  } else {
+    if (tags_.contains(addr)) {
+      tags_.access(addr);
+      ++hits_;
+      return {Result::kDone, t + hit_ps_};
+    }
+    // A primary miss: wait for an MSHR (behind any request already waiting).
+    if (!retry && !stalled_.empty()) {
+      stalled_.push_back({&trans, t});
+      return {Result::kStalled, 0};
+    }
+    free_ps = free_mshr_time(t);
+    if (free_ps == kUnknown) {
+      stalled_.push_back({&trans, t});
+      return {Result::kStalled, 0};
+    }
+    tags_.access(addr);  // fills the line
   }
   stall_cycles_ += (free_ps - t) / p_.clock_period_ps;
   t = free_ps;
-
-  tags_.access(addr);  // fills the line
   ++primary_;
   Mshr* m = nullptr;
   for (Mshr& cand : mshrs_)
-    if (!cand.in_use) {
+    if (!cand.in_use || (cand.fill_ps != kUnknown && cand.fill_ps <= now)) {  // free for good
       m = &cand;
       break;
     }
   if (!m) {
     m = &mshrs_.emplace_back();
-    m->tag = new FetchTag;
-    m->tag->owner = static_cast<uint32_t>(mshrs_.size() - 1);
-    m->payload.set_extension(m->tag);
+    m->port = std::make_unique<MshrPort>();
+    m->port->tag = new FetchTag;
+    m->port->tag->owner = static_cast<uint32_t>(mshrs_.size() - 1);
+    m->port->payload.set_extension(m->port->tag);
   }
   m->in_use = true;
   m->line = line;
   m->request_ps = request_ps;
   m->alloc_ps = t;
   m->fill_ps = kUnknown;
-  m->waiters.clear();
+  m->port->waiters.clear();
   const FetchTag* up = trans.get_extension<FetchTag>();
-  m->tag->stream = up ? up->stream : Stream::kNode;
-  init_read(m->payload, line << offset_bits_, static_cast<uint32_t>(line_bytes_));
+  m->port->tag->stream = up ? up->stream : Stream::kNode;
+  init_read(m->port->payload, line << offset_bits_, static_cast<uint32_t>(line_bytes_));
   tlm::tlm_phase phase = tlm::BEGIN_REQ;
   sc_core::sc_time delay = ps(t + hit_ps_ - now);
-  if (initiator_socket->nb_transport_fw(m->payload, phase, delay) == tlm::TLM_COMPLETED) {
+  if (initiator_socket->nb_transport_fw(m->port->payload, phase, delay) == tlm::TLM_COMPLETED) {
     set_fill(*m, now + delay.value());  // answered at once: the data time is known
     return {Result::kDone, m->fill_ps};
   }
-  m->waiters.push_back(&trans);
+  m->port->waiters.push_back(&trans);
   return {Result::kPending, 0};
 }
 
@@ -145,8 +157,8 @@ tlm::tlm_sync_enum L1Cache::nb_transport_bw(tlm::tlm_generic_payload& trans,
   if (phase == tlm::BEGIN_RESP) {
     Mshr& m = mshrs_[trans.get_extension<FetchTag>()->owner];
     set_fill(m, now_ps() + delay.value());
-    for (tlm::tlm_generic_payload* w : m.waiters) respond(*w, m.fill_ps);
-    m.waiters.clear();
+    for (tlm::tlm_generic_payload* w : m.port->waiters) respond(*w, m.fill_ps);
+    m.port->waiters.clear();
     retry_stalled();
   }
   return tlm::TLM_COMPLETED;

@@ -22,6 +22,7 @@
 #pragma once
 #include <cstdint>
 #include <deque>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -77,15 +78,18 @@ class L1Cache : public sc_core::sc_module {
     tlm::tlm_generic_payload* trans;
     uint64_t t_ps;
   };
+  struct MshrPort {  // what a miss needs besides its times: kept off the scanned array
+    std::vector<tlm::tlm_generic_payload*> waiters;
+    tlm::tlm_generic_payload payload;
+    FetchTag* tag = nullptr;  // owned by the payload (it deletes its extensions)
+  };
   struct Mshr {
     bool in_use = false;
     uint64_t line = 0;
     uint64_t request_ps = 0;  // the primary request's arrival
     uint64_t alloc_ps = 0;    // busy from here ...
     uint64_t fill_ps = kUnknown;  // ... to here (unknown until the downstream answers)
-    std::vector<tlm::tlm_generic_payload*> waiters;
-    tlm::tlm_generic_payload payload;
-    FetchTag* tag = nullptr;  // owned by the payload (it deletes its extensions)
+    std::unique_ptr<MshrPort> port;
     bool busy_at(uint64_t t) const { return in_use && alloc_ps <= t && t < fill_ps; }
   };
   struct Result {
@@ -115,7 +119,7 @@ class L1Cache : public sc_core::sc_module {
   uint32_t offset_bits_;
   uint64_t line_bytes_;
   uint64_t hit_ps_;
-  std::deque<Mshr> mshrs_;  // entries, busy or recently filled (freed once the kernel passes the fill)
+  std::vector<Mshr> mshrs_;  // busy or recently filled (reused once the kernel passes the fill)
   std::deque<Waiter> stalled_;
   uint64_t hits_ = 0, primary_ = 0, merged_ = 0, stall_cycles_ = 0;
   uint64_t fills_ = 0, miss_latency_cycles_ = 0;

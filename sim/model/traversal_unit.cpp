@@ -1,6 +1,7 @@
 #include "model/traversal_unit.h"
 
 #include <algorithm>
+#include <bit>
 #include <stdexcept>
 
 #include "layout/layout_dispatch.h"
@@ -20,6 +21,9 @@ void validate(const UnitParams& p) {
   at_least_1(p.isect_interval_cycles, "isect.interval_cycles");
   at_least_1(p.node_line_bytes, "l1.line");
   at_least_1(p.data_line_bytes, "dcache.line");
+  if (p.rays_in_flight > (1u << 20))
+    throw InputError("sim.rays_in_flight: " + std::to_string(p.rays_in_flight) +
+                     " is more than 1048576");
   if (p.stack_depth > TraversalState::kStackDepth)
     throw InputError("sim.stack_depth: " + std::to_string(p.stack_depth) + " is more than " +
                      std::to_string(TraversalState::kStackDepth) + " entries");
@@ -42,7 +46,9 @@ TraversalUnit::TraversalUnit(const sc_core::sc_module_name& name, const UnitPara
       image_(image),
       host_(host),
       slots_(p.rays_in_flight),
-      lane_free_ps_(p.isect_lanes, 0) {
+      events_(p.rays_in_flight),
+      step_calendar_(kCalendarCycles / 64, 0),
+      lane_free_(p.isect_lanes, 0) {
   node_socket.register_nb_transport_bw(this, &TraversalUnit::nb_transport_bw);
   data_socket.register_nb_transport_bw(this, &TraversalUnit::nb_transport_bw);
   SC_THREAD(run);
@@ -67,27 +73,29 @@ void TraversalUnit::run() {
 
 template <class Decoder>
 void TraversalUnit::run_batch() {
-  const uint64_t t0 = align_up(now_ps());
-  last_ps_ = t0;
+  const uint64_t t0 = cycle_at_or_after(now_ps());
+  last_cycle_ = t0;
   for (uint32_t i = 0; i < slots_.size(); ++i) start_ray(i, t0);
   while (active_ > 0) {
     const uint64_t h = horizon();
-    if (events_.empty() || events_.top().t_ps >= h) {
+    if (events_.empty() || events_.top_cycle() * period_ >= h) {
       // Nothing to do before the memory acts on its own: let the kernel get there.
       if (h == MemoryHorizon::kNever)
         throw std::logic_error("traversal unit: rays wait for memory that has nothing scheduled");
       const uint64_t now = now_ps();
       wait(h > now ? ps(h - now) : sc_core::SC_ZERO_TIME);
+      ++kernel_waits_;
       continue;
     }
-    const Event e = events_.top();
-    events_.pop();
-    last_ps_ = std::max(last_ps_, e.t_ps);
-    process<Decoder>(slots_[e.slot], e.slot, e.t_ps);
+    uint64_t t;
+    const uint32_t slot = events_.pop(t);
+    last_cycle_ = std::max(last_cycle_, t);
+    ++events_processed_;
+    process<Decoder>(slots_[slot], slot, t);
   }
   // The kernel catches up with the unit: the batch ends at its last event.
-  const uint64_t now = now_ps();
-  if (last_ps_ > now) wait(ps(last_ps_ - now));
+  const uint64_t end_ps = last_cycle_ * period_, now = now_ps();
+  if (end_ps > now) wait(ps(end_ps - now));
 }
 
 void TraversalUnit::start_ray(uint32_t slot, uint64_t t) {
@@ -103,9 +111,8 @@ void TraversalUnit::start_ray(uint32_t slot, uint64_t t) {
     }
     s.active = true;
     s.ray = index;
-    s.phase = Phase::kStep;
     ++active_;
-    push(slot, t);
+    schedule_step(slot, t);
     return;
   }
   s.active = false;
@@ -114,30 +121,75 @@ void TraversalUnit::start_ray(uint32_t slot, uint64_t t) {
 void TraversalUnit::finish_ray(uint32_t slot, uint64_t t) {
   Slot& s = slots_[slot];
   host_.complete(s.ray, s.st.hit);
+  last_cycle_ = std::max(last_cycle_, t);
   s.active = false;
   --active_;
   start_ray(slot, t);
 }
 
+void TraversalUnit::schedule_step(uint32_t slot, uint64_t t) {
+  constexpr uint64_t kWords = kCalendarCycles / 64;
+  // Forget the bookings of cycles that have passed (the events being processed are at or after
+  // the last one), a word at a time.
+  const uint64_t now_cycle = last_cycle_;
+  while (calendar_clear_ + 64 <= now_cycle) {
+    step_calendar_[(calendar_clear_ / 64) % kWords] = 0;
+    calendar_clear_ += 64;
+  }
+  uint64_t c = t;
+  for (;;) {
+    uint64_t& word = step_calendar_[(c / 64) % kWords];
+    const uint64_t free_bits = ~word & (~uint64_t{0} << (c % 64));
+    if (free_bits) {
+      c = c / 64 * 64 + static_cast<uint64_t>(std::countr_zero(free_bits));
+      word |= uint64_t{1} << (c % 64);
+      break;
+    }
+    c = c / 64 * 64 + 64;
+  }
+  if (c >= calendar_clear_ + kCalendarCycles - 64)
+    throw std::logic_error("traversal unit: a step booked beyond the pipeline calendar");
+  slots_[slot].phase = Phase::kStep;
+  push(slot, c);
+}
+
+void TraversalUnit::data_ready(uint32_t slot, uint64_t ready) {
+  Slot& s = slots_[slot];
+  switch (s.phase) {
+    case Phase::kNodeWait: {  // the node is in: the step is decided step_cycles later
+      const uint64_t decided = ready + p_.step_cycles;
+      if (s.kind == StepKind::kInterior) {
+        schedule_step(slot, decided);
+      } else {
+        s.phase = Phase::kLeafBody;
+        push(slot, decided);
+      }
+      return;
+    }
+    case Phase::kListWait:
+      s.phase = Phase::kTriangles;
+      push(slot, ready);
+      return;
+    case Phase::kTriWait:
+      s.phase = Phase::kIsect;
+      push(slot, ready);
+      return;
+    default:
+      throw std::logic_error("traversal unit: data for a ray that waits for none");
+  }
+}
+
 template <class Decoder>
 void TraversalUnit::process(Slot& s, uint32_t index, uint64_t t) {
+  // Fetches of the leaf's triangles start after its list, if it has one.
+  const size_t first_triangle =
+      s.fetches.size() > 1 && s.fetches[1].stream == Stream::kList ? 2 : 1;
   switch (s.phase) {
     case Phase::kStep: {
-      // The pipeline takes one step per cycle, first come first served: reserve a cycle.
-      const uint64_t start = std::max(t, pipe_free_ps_);
-      pipe_free_ps_ = start + period_;
-      if (start > t) {
-        s.phase = Phase::kStepGo;
-        push(index, start);
-        return;
-      }
-      [[fallthrough]];
-    }
-    case Phase::kStepGo: {
       s.fetches.clear();
       Recorder rec{&s.fetches};
       s.kind = traversal_step<Decoder>(s.st, image_, rec);
-      if (s.kind == StepKind::kDone) {  // only after a pop found nothing: not reached normally
+      if (s.kind == StepKind::kDone) {  // not reached: finished rays leave after their leaf
         finish_ray(index, t);
         return;
       }
@@ -148,62 +200,48 @@ void TraversalUnit::process(Slot& s, uint32_t index, uint64_t t) {
       issue(index, 0, 1, t);
       return;
     }
-    case Phase::kNodeWait:
-      s.phase = s.kind == StepKind::kInterior ? Phase::kStep : Phase::kLeafBody;
-      push(index, t + uint64_t{p_.step_cycles} * period_);
-      return;
     case Phase::kLeafBody:
       ++leaf_steps_;
-      if (s.fetches.size() > 1 && s.fetches[1].stream == Stream::kList) {
+      if (first_triangle == 2) {
         s.phase = Phase::kListWait;
         issue(index, 1, 2, t);
         return;
       }
       [[fallthrough]];
-    case Phase::kListWait:
-    case Phase::kTriangles: {
-      const size_t first = s.fetches.size() > 1 && s.fetches[1].stream == Stream::kList ? 2 : 1;
-      if (first == s.fetches.size()) {  // an empty leaf
-        s.phase = Phase::kLeafDone;
-        process<Decoder>(s, index, t);
+    case Phase::kTriangles:
+      if (first_triangle < s.fetches.size()) {
+        s.phase = Phase::kTriWait;
+        issue(index, first_triangle, s.fetches.size(), t);
         return;
       }
-      s.phase = Phase::kTriWait;
-      issue(index, first, s.fetches.size(), t);
-      return;
-    }
-    case Phase::kTriWait: {
+      [[fallthrough]];  // an empty leaf
+    case Phase::kIsect: {
       // Every triangle fetched goes through the intersection pipeline.
-      const size_t first = s.fetches.size() > 1 && s.fetches[1].stream == Stream::kList ? 2 : 1;
       uint64_t end = t;
-      for (size_t i = first; i < s.fetches.size(); ++i) {
-        auto lane = std::min_element(lane_free_ps_.begin(), lane_free_ps_.end());
+      for (size_t i = first_triangle; i < s.fetches.size(); ++i) {
+        auto lane = std::min_element(lane_free_.begin(), lane_free_.end());
         const uint64_t start = std::max(t, *lane);
-        *lane = start + uint64_t{p_.isect_interval_cycles} * period_;
-        end = std::max(end, start + uint64_t{p_.isect_latency_cycles} * period_);
+        *lane = start + p_.isect_interval_cycles;
+        end = std::max(end, start + p_.isect_latency_cycles);
         ++isect_tests_;
       }
-      s.phase = Phase::kLeafDone;
-      push(index, end);
+      if (s.st.done)
+        finish_ray(index, end);
+      else
+        schedule_step(index, end);
       return;
     }
-    case Phase::kLeafDone:
-      if (s.st.done) {
-        finish_ray(index, t);
-      } else {
-        s.phase = Phase::kStep;
-        push(index, t);
-      }
-      return;
+    default:
+      throw std::logic_error("traversal unit: event for a ray that waits for data");
   }
 }
 
 void TraversalUnit::issue(uint32_t slot, size_t first, size_t last, uint64_t t) {
   Slot& s = slots_[slot];
   s.pending = 0;
-  s.ready_ps = t;
+  s.ready = t;
   s.issuing = true;
-  const sc_core::sc_time offset = ps(t - now_ps());
+  const sc_core::sc_time offset = ps(t * period_ - now_ps());
   for (size_t i = first; i < last; ++i) {
     const Fetch& f = s.fetches[i];
     if (f.bytes == 0) continue;
@@ -235,7 +273,7 @@ void TraversalUnit::issue(uint32_t slot, size_t first, size_t last, uint64_t t) 
     }
   }
   s.issuing = false;
-  if (s.pending == 0) push(slot, align_up(s.ready_ps));
+  if (s.pending == 0) data_ready(slot, s.ready);
 }
 
 tlm::tlm_sync_enum TraversalUnit::nb_transport_bw(tlm::tlm_generic_payload& trans,
@@ -252,8 +290,8 @@ void TraversalUnit::arrived(tlm::tlm_generic_payload& trans, uint64_t at_ps) {
   const uint32_t slot = trans.get_extension<FetchTag>()->owner;
   free_payloads_.push_back(&trans);
   Slot& s = slots_[slot];
-  s.ready_ps = std::max(s.ready_ps, at_ps);
-  if (--s.pending == 0 && !s.issuing) push(slot, align_up(s.ready_ps));
+  s.ready = std::max(s.ready, cycle_at_or_after(at_ps));
+  if (--s.pending == 0 && !s.issuing) data_ready(slot, s.ready);
 }
 
 void TraversalUnit::write_stats(Stats& stats) const {
@@ -263,6 +301,8 @@ void TraversalUnit::write_stats(Stats& stats) const {
   stats.set("unit.isect_tests", isect_tests_);
   stats.set("unit.max_stack_depth", max_stack_);
   stats.set("unit.stack_overflow_steps", stack_overflows_);
+  stats.set("unit.events", events_processed_);      // simulator effort: unit events processed
+  stats.set("unit.kernel_waits", kernel_waits_);    // and SystemC waits (memory-horizon syncs)
 }
 
 }  // namespace rtusim

@@ -18,7 +18,6 @@
 #pragma once
 #include <cstdint>
 #include <deque>
-#include <queue>
 #include <string>
 #include <vector>
 
@@ -28,6 +27,7 @@
 
 #include "layout/memory_image.h"
 #include "mem/mem_protocol.h"
+#include "model/event_wheel.h"
 #include "model/host_interface.h"
 #include "traversal/traversal.h"
 
@@ -64,11 +64,12 @@ class TraversalUnit : public sc_core::sc_module {
   void add_horizon(const MemoryHorizon* h) { horizons_.push_back(h); }
 
   uint64_t steps() const { return steps_; }
-  uint64_t busy_end_ps() const { return last_ps_; }
   void write_stats(Stats& stats) const;  // unit.*
 
  private:
-  enum class Phase : uint8_t { kStep, kStepGo, kNodeWait, kLeafBody, kListWait, kTriangles, kTriWait, kLeafDone };
+  // What a ray does at its next event (kStep, kLeafBody, kTriangles, kIsect) or which data it
+  // waits for (kNodeWait, kListWait, kTriWait).
+  enum class Phase : uint8_t { kStep, kNodeWait, kLeafBody, kListWait, kTriangles, kTriWait, kIsect };
   struct Fetch {
     Stream stream;
     uint64_t addr;
@@ -86,31 +87,31 @@ class TraversalUnit : public sc_core::sc_module {
     TraversalState st;
     std::vector<Fetch> fetches;  // of the current step, in issue order
     uint32_t pending = 0;        // line requests outstanding
-    uint64_t ready_ps = 0;       // latest data time among them
+    uint64_t ready = 0;          // latest data cycle among them
     bool issuing = false;
-  };
-  struct Event {
-    uint64_t t_ps;
-    uint64_t seq;
-    uint32_t slot;
-    bool operator>(const Event& o) const { return t_ps != o.t_ps ? t_ps > o.t_ps : seq > o.seq; }
   };
 
   void run();
   template <class Decoder>
   void run_batch();
+  // Times inside the unit are cycles of its clock; picoseconds only at the sockets.
   template <class Decoder>
-  void process(Slot& s, uint32_t index, uint64_t t);
-  void start_ray(uint32_t slot, uint64_t t);
-  void finish_ray(uint32_t slot, uint64_t t);
-  void push(uint32_t slot, uint64_t t) { events_.push({t, seq_++, slot}); }
-  // Issues fetches [first, last) of the slot's step at time t; schedules the slot when all are in.
-  void issue(uint32_t slot, size_t first, size_t last, uint64_t t);
+  void process(Slot& s, uint32_t index, uint64_t cycle);
+  void start_ray(uint32_t slot, uint64_t cycle);
+  void finish_ray(uint32_t slot, uint64_t cycle);
+  // Books the step pipeline from `cycle` on and schedules the slot's next step there.
+  void schedule_step(uint32_t slot, uint64_t cycle);
+  // All data the slot waited for is there at `cycle`.
+  void data_ready(uint32_t slot, uint64_t cycle);
+  void push(uint32_t slot, uint64_t cycle) { events_.push(cycle, slot); }
+  // Issues fetches [first, last) of the slot's step at `cycle`; schedules the slot when all
+  // are in.
+  void issue(uint32_t slot, size_t first, size_t last, uint64_t cycle);
   tlm::tlm_sync_enum nb_transport_bw(tlm::tlm_generic_payload& trans, tlm::tlm_phase& phase,
                                      sc_core::sc_time& delay);
   void arrived(tlm::tlm_generic_payload& trans, uint64_t at_ps);
   uint64_t horizon() const;
-  uint64_t align_up(uint64_t t) const { return (t + period_ - 1) / period_ * period_; }
+  uint64_t cycle_at_or_after(uint64_t t_ps) const { return (t_ps + period_ - 1) / period_; }
 
   UnitParams p_;
   uint64_t period_;
@@ -118,17 +119,24 @@ class TraversalUnit : public sc_core::sc_module {
   HostInterface& host_;
   std::vector<const MemoryHorizon*> horizons_;
   std::vector<Slot> slots_;
-  std::priority_queue<Event, std::vector<Event>, std::greater<Event>> events_;
-  uint64_t seq_ = 0;
+  EventWheel events_;
   uint32_t active_ = 0;
-  uint64_t pipe_free_ps_ = 0;           // next cycle the traversal pipeline takes a step
-  std::vector<uint64_t> lane_free_ps_;  // per intersection lane
+  // The step pipeline takes one step per cycle. Bookings as a bit per cycle over a window of
+  // kCalendarCycles from the current cycle (far more than any memory latency); bits behind the
+  // current cycle are cleared as time passes. A step books the first free cycle from the one it
+  // is ready in.
+  static constexpr uint64_t kCalendarCycles = uint64_t{1} << 16;
+  std::vector<uint64_t> step_calendar_;  // kCalendarCycles / 64 words
+  uint64_t calendar_clear_ = 0;          // cycles before this one are cleared
+  std::vector<uint64_t> lane_free_;  // per intersection lane: next cycle it takes a test
+
   std::deque<tlm::tlm_generic_payload> payloads_;  // each owns its FetchTag
   std::vector<tlm::tlm_generic_payload*> free_payloads_;
-  uint64_t last_ps_ = 0;
+  uint64_t last_cycle_ = 0;  // of the last event processed
 
   uint64_t steps_ = 0, leaf_steps_ = 0, isect_tests_ = 0, rays_ = 0;
   uint64_t stack_overflows_ = 0;
+  uint64_t events_processed_ = 0, kernel_waits_ = 0;
   int max_stack_ = 0;
 };
 
