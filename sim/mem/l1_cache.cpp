@@ -31,7 +31,8 @@ L1Cache::L1Cache(const sc_core::sc_module_name& name, const L1Params& p)
       tags_(p.cache),
       offset_bits_(static_cast<uint32_t>(std::countr_zero(p.cache.line_bytes))),
       line_bytes_(p.cache.line_bytes),
-      hit_ps_(uint64_t{p.hit_cycles} * p.clock_period_ps) {
+      hit_ps_(uint64_t{p.hit_cycles} * p.clock_period_ps),
+      hit_time_(ps(hit_ps_)) {
   target_socket.register_nb_transport_fw(this, &L1Cache::nb_transport_fw);
   initiator_socket.register_nb_transport_bw(this, &L1Cache::nb_transport_bw);
 }
@@ -51,7 +52,10 @@ tlm::tlm_sync_enum L1Cache::nb_transport_fw(tlm::tlm_generic_payload& trans,
   const Result r = access(trans, t, t, false);
   if (r.kind == Result::kDone) {
     trans.set_response_status(tlm::TLM_OK_RESPONSE);
-    delay = ps(r.at_ps - now);
+    if (r.at_ps == t + hit_ps_)
+      delay += hit_time_;  // a hit: no conversion
+    else
+      delay = ps(r.at_ps - now);
     return tlm::TLM_COMPLETED;
   }
   phase = tlm::END_REQ;
@@ -80,17 +84,21 @@ L1Cache::Result L1Cache::access(tlm::tlm_generic_payload& trans, uint64_t t,
   const uint64_t addr = trans.get_address();
   const uint64_t line = addr >> offset_bits_;
   // One pass: a busy MSHR for the line (a merge), and how many are busy at t.
+  // Branch-free: which entry is busy is unpredictable.
   uint32_t busy = 0;
-  for (Mshr& m : mshrs_) {
-    if (!m.busy_at(t)) continue;
-    ++busy;
-    if (m.line == line) {
-      ++merged_;
-      tags_.access(addr);  // the replacement state sees every access
-      if (m.fill_ps != kUnknown) return {Result::kDone, m.fill_ps};
-      m.port->waiters.push_back(&trans);
-      return {Result::kPending, 0};
-    }
+  size_t match = mshrs_.size();
+  for (size_t i = 0; i < mshrs_.size(); ++i) {
+    const bool b = mshrs_[i].busy_at(t);
+    busy += b;
+    match = b & (mshrs_[i].line == line) ? i : match;
+  }
+  if (match != mshrs_.size()) {
+    Mshr& m = mshrs_[match];
+    ++merged_;
+    tags_.access(addr);  // the replacement state sees every access
+    if (m.fill_ps != kUnknown) return {Result::kDone, m.fill_ps};
+    m.port->waiters.push_back(&trans);
+    return {Result::kPending, 0};
   }
   uint64_t free_ps = t;
   if (busy < p_.mshrs && (retry || stalled_.empty())) {

@@ -90,7 +90,7 @@ class L1Cache : public sc_core::sc_module {
     uint64_t alloc_ps = 0;    // busy from here ...
     uint64_t fill_ps = kUnknown;  // ... to here (unknown until the downstream answers)
     std::unique_ptr<MshrPort> port;
-    bool busy_at(uint64_t t) const { return in_use && alloc_ps <= t && t < fill_ps; }
+    bool busy_at(uint64_t t) const { return in_use & (alloc_ps <= t) & (t < fill_ps); }
   };
   struct Result {
     enum Kind { kDone, kPending, kStalled } kind;
@@ -119,6 +119,7 @@ class L1Cache : public sc_core::sc_module {
   uint32_t offset_bits_;
   uint64_t line_bytes_;
   uint64_t hit_ps_;
+  sc_core::sc_time hit_time_;
   std::vector<Mshr> mshrs_;  // busy or recently filled (reused once the kernel passes the fill)
   std::deque<Waiter> stalled_;
   uint64_t hits_ = 0, primary_ = 0, merged_ = 0, stall_cycles_ = 0;

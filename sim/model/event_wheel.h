@@ -4,6 +4,7 @@
 // event further ahead. Push and pop are O(1) when events are dense in time, as they are when the
 // unit is busy; a binary heap costs a mispredicted branch per level.
 #pragma once
+#include <algorithm>
 #include <bit>
 #include <cstdint>
 #include <functional>
@@ -18,7 +19,7 @@ class EventWheel {
   static constexpr uint32_t kNone = ~uint32_t{0};
 
   explicit EventWheel(uint32_t slots)
-      : next_(slots, kNone), head_(kWheelCycles, kNone), tail_(kWheelCycles, kNone),
+      : link_(slots, kNone), head_(kWheelCycles, kNone), tail_(kWheelCycles, kNone),
         nonempty_(kWheelCycles / 64, 0) {}
 
   bool empty() const { return count_ == 0; }
@@ -26,33 +27,37 @@ class EventWheel {
   // Schedules `slot` at `cycle` (>= the cycle of the last pop).
   void push(uint64_t cycle, uint32_t slot) {
     ++count_;
+    if (next_ != kUnknown) next_ = std::min(next_, cycle);  // else found at the next peek
     if (cycle >= now_ + kWheelCycles) {
       far_.push(cycle << 20 | slot);  // slots < 2^20
       return;
     }
     const uint64_t b = cycle & (kWheelCycles - 1);
-    next_[slot] = kNone;
+    link_[slot] = kNone;
     if (head_[b] == kNone) {
       head_[b] = slot;
       nonempty_[b / 64] |= uint64_t{1} << (b % 64);
     } else {
-      next_[tail_[b]] = slot;
+      link_[tail_[b]] = slot;
     }
     tail_[b] = slot;
   }
 
   // Cycle of the next event (the queue must not be empty).
   uint64_t top_cycle() {
-    const uint64_t wheel = next_wheel_cycle();
-    const uint64_t far = far_.empty() ? ~uint64_t{0} : far_.top() >> 20;
-    return std::min(wheel, far);
+    if (next_ == kUnknown) {
+      const uint64_t far = far_.empty() ? ~uint64_t{0} : far_.top() >> 20;
+      next_ = std::min(next_wheel_cycle(), far);
+    }
+    return next_;
   }
 
   // Takes the next event: its slot; `cycle` receives its cycle.
   uint32_t pop(uint64_t& cycle) {
     --count_;
-    const uint64_t wheel = next_wheel_cycle();
-    if (!far_.empty() && (far_.top() >> 20) < wheel) {
+    const uint64_t wheel = top_cycle();
+    next_ = kUnknown;
+    if (!far_.empty() && (far_.top() >> 20) <= wheel) {
       const uint64_t key = far_.top();
       far_.pop();
       cycle = key >> 20;
@@ -61,7 +66,7 @@ class EventWheel {
     }
     const uint64_t b = wheel & (kWheelCycles - 1);
     const uint32_t slot = head_[b];
-    head_[b] = next_[slot];
+    head_[b] = link_[slot];
     if (head_[b] == kNone) nonempty_[b / 64] &= ~(uint64_t{1} << (b % 64));
     cycle = wheel;
     now_ = wheel;
@@ -82,12 +87,14 @@ class EventWheel {
     return ~uint64_t{0};
   }
 
-  std::vector<uint32_t> next_;  // per slot: the next slot in its bucket
+  std::vector<uint32_t> link_;  // per slot: the next slot in its bucket
   std::vector<uint32_t> head_, tail_;
   std::vector<uint64_t> nonempty_;
   std::priority_queue<uint64_t, std::vector<uint64_t>, std::greater<uint64_t>> far_;
+  static constexpr uint64_t kUnknown = ~uint64_t{0};
   uint64_t now_ = 0;
   uint64_t count_ = 0;
+  uint64_t next_ = kUnknown;  // cycle of the next event, when known
 };
 
 }  // namespace rtusim

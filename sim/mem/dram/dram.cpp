@@ -2,6 +2,8 @@
 
 #include "mem/dram/fr_fcfs_dram.h"
 
+#include <algorithm>
+
 namespace rtusim {
 
 Dram::Dram(const sc_core::sc_module_name& name, const DramParams& p)
@@ -43,11 +45,15 @@ void Dram::schedule_wakeup() {
   const uint64_t next = backend_->next_decision_ps();
   if (next == DramBackend::kNever) return;
   const uint64_t now = now_ps();
-  wake_.notify(ps(next > now ? next - now : 0));  // an earlier pending notification wins
+  if (wake_pending_ && wake_ps_ <= std::max(next, now)) return;  // already woken by then
+  wake_pending_ = true;
+  wake_ps_ = std::max(next, now);
+  wake_.notify(ps(wake_ps_ - now));  // an earlier pending notification wins
 }
 
 void Dram::decide() {
   const uint64_t now = now_ps();
+  wake_pending_ = false;
   done_.clear();
   backend_->advance(now, done_);
   for (const DramCompletion& c : done_) {

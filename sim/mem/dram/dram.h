@@ -50,6 +50,8 @@ class Dram : public sc_core::sc_module, public MemoryHorizon {
   std::vector<uint64_t> free_ids_;
   std::vector<DramCompletion> done_;  // scratch
   sc_core::sc_event wake_;
+  bool wake_pending_ = false;  // wake_ is notified for wake_ps_
+  uint64_t wake_ps_ = 0;
 };
 
 }  // namespace rtusim
