@@ -136,6 +136,11 @@ void TraversalUnit::schedule_step(uint32_t slot, uint64_t t) {
     step_calendar_[(calendar_clear_ / 64) % kWords] = 0;
     calendar_clear_ += 64;
   }
+  if (t >= calendar_clear_ + kCalendarCycles - 128) {  // beyond the window: book later
+    slots_[slot].phase = Phase::kBook;
+    push(slot, t);
+    return;
+  }
   uint64_t c = t;
   for (;;) {
     uint64_t& word = step_calendar_[(c / 64) % kWords];
@@ -147,8 +152,12 @@ void TraversalUnit::schedule_step(uint32_t slot, uint64_t t) {
     }
     c = c / 64 * 64 + 64;
   }
-  if (c >= calendar_clear_ + kCalendarCycles - 64)
-    throw std::logic_error("traversal unit: a step booked beyond the pipeline calendar");
+  if (c >= calendar_clear_ + kCalendarCycles - 64) {  // the window is full: book later
+    step_calendar_[(c / 64) % kWords] &= ~(uint64_t{1} << (c % 64));
+    slots_[slot].phase = Phase::kBook;
+    push(slot, c);
+    return;
+  }
   slots_[slot].phase = Phase::kStep;
   push(slot, c);
 }
@@ -200,6 +209,9 @@ void TraversalUnit::process(Slot& s, uint32_t index, uint64_t t) {
       issue(index, 0, 1, t);
       return;
     }
+    case Phase::kBook:
+      schedule_step(index, t);
+      return;
     case Phase::kLeafBody:
       ++leaf_steps_;
       if (first_triangle == 2) {

@@ -69,7 +69,10 @@ class TraversalUnit : public sc_core::sc_module {
  private:
   // What a ray does at its next event (kStep, kLeafBody, kTriangles, kIsect) or which data it
   // waits for (kNodeWait, kListWait, kTriWait).
-  enum class Phase : uint8_t { kStep, kNodeWait, kLeafBody, kListWait, kTriangles, kTriWait, kIsect };
+  // kBook: ready for a step too far ahead for the calendar; books when its time comes.
+  enum class Phase : uint8_t {
+    kStep, kBook, kNodeWait, kLeafBody, kListWait, kTriangles, kTriWait, kIsect
+  };
   struct Fetch {
     Stream stream;
     uint64_t addr;
