@@ -132,6 +132,10 @@ void TraversalUnit::schedule_step(uint32_t slot, uint64_t t) {
   // Forget the bookings of cycles that have passed (the events being processed are at or after
   // the last one), a word at a time.
   const uint64_t now_cycle = last_cycle_;
+  if (now_cycle >= calendar_clear_ + kCalendarCycles) {  // a long idle gap: forget everything
+    std::fill(step_calendar_.begin(), step_calendar_.end(), 0);
+    calendar_clear_ = now_cycle / 64 * 64;
+  }
   while (calendar_clear_ + 64 <= now_cycle) {
     step_calendar_[(calendar_clear_ / 64) % kWords] = 0;
     calendar_clear_ += 64;
