@@ -1,0 +1,70 @@
+#include "mem/dram/dram.h"
+
+#include "mem/dram/fr_fcfs_dram.h"
+
+#include <algorithm>
+
+namespace rtusim {
+
+Dram::Dram(const sc_core::sc_module_name& name, const DramParams& p)
+    : Dram(name, std::make_unique<FrFcfsDram>(p)) {}
+
+Dram::Dram(const sc_core::sc_module_name& name, std::unique_ptr<DramBackend> backend)
+    : sc_module(name), target_socket("target_socket"), backend_(std::move(backend)) {
+  target_socket.register_nb_transport_fw(this, &Dram::nb_transport_fw);
+  SC_METHOD(decide);
+  sensitive << wake_;
+  dont_initialize();
+}
+
+tlm::tlm_sync_enum Dram::nb_transport_fw(int id, tlm::tlm_generic_payload& trans,
+                                         tlm::tlm_phase& phase, sc_core::sc_time& delay) {
+  if (phase == tlm::END_RESP) return tlm::TLM_COMPLETED;
+  if (phase != tlm::BEGIN_REQ || trans.get_command() != tlm::TLM_READ_COMMAND) {
+    trans.set_response_status(tlm::TLM_COMMAND_ERROR_RESPONSE);
+    return tlm::TLM_COMPLETED;
+  }
+  uint64_t rid;
+  if (free_ids_.empty()) {
+    rid = pending_.size();
+    pending_.push_back({&trans, id});
+  } else {
+    rid = free_ids_.back();
+    free_ids_.pop_back();
+    pending_[rid] = {&trans, id};
+  }
+  const FetchTag* tag = trans.get_extension<FetchTag>();
+  backend_->enqueue({rid, trans.get_address(), trans.get_data_length(),
+                     now_ps() + delay.value(), tag ? tag->stream : Stream::kNode});
+  schedule_wakeup();
+  phase = tlm::END_REQ;
+  return tlm::TLM_UPDATED;
+}
+
+void Dram::schedule_wakeup() {
+  const uint64_t next = backend_->next_decision_ps();
+  if (next == DramBackend::kNever) return;
+  const uint64_t now = now_ps();
+  if (wake_pending_ && wake_ps_ <= std::max(next, now)) return;  // already woken by then
+  wake_pending_ = true;
+  wake_ps_ = std::max(next, now);
+  wake_.notify(ps(wake_ps_ - now));  // an earlier pending notification wins
+}
+
+void Dram::decide() {
+  const uint64_t now = now_ps();
+  wake_pending_ = false;
+  done_.clear();
+  backend_->advance(now, done_);
+  for (const DramCompletion& c : done_) {
+    const Pending p = pending_[c.id];
+    free_ids_.push_back(c.id);
+    p.trans->set_response_status(tlm::TLM_OK_RESPONSE);
+    tlm::tlm_phase phase = tlm::BEGIN_RESP;
+    sc_core::sc_time delay = ps(c.done_ps - now);
+    target_socket[p.socket_id]->nb_transport_bw(*p.trans, phase, delay);  // END_RESP implied
+  }
+  schedule_wakeup();
+}
+
+}  // namespace rtusim

@@ -1,0 +1,57 @@
+// The DRAM as a SystemC module: a TLM-2.0 AT target (any number of initiators bind to
+// `target_socket`) around a DramBackend timing model.
+//
+// BEGIN_REQ is accepted at once (TLM_UPDATED, END_REQ) and queued with arrival time
+// sc_time_stamp() + delay. A method wakes at each time a scheduling decision is due, lets the
+// backend decide, and sends BEGIN_RESP for every scheduled request with the delay to its
+// completion. The module is its own memory horizon: nothing happens here before the next
+// decision time.
+#pragma once
+#include <memory>
+#include <vector>
+
+#include <systemc>
+#include <tlm>
+#include <tlm_utils/multi_passthrough_target_socket.h>
+
+#include "mem/dram/dram_backend.h"
+#include "mem/dram/dram_params.h"
+#include "mem/mem_protocol.h"
+
+namespace rtusim {
+
+class Dram : public sc_core::sc_module, public MemoryHorizon {
+ public:
+  tlm_utils::multi_passthrough_target_socket<Dram> target_socket;
+
+  // The FR-FCFS model of dram_params.h (validated; errors name "dram.*").
+  Dram(const sc_core::sc_module_name& name, const DramParams& p);
+  // Another timing model behind the same socket.
+  Dram(const sc_core::sc_module_name& name, std::unique_ptr<DramBackend> backend);
+
+  SC_HAS_PROCESS(Dram);
+
+  uint64_t horizon_ps() const override { return backend_->next_decision_ps(); }
+  const DramBackend& backend() const { return *backend_; }
+
+ private:
+  struct Pending {
+    tlm::tlm_generic_payload* trans;
+    int socket_id;
+  };
+
+  tlm::tlm_sync_enum nb_transport_fw(int id, tlm::tlm_generic_payload& trans,
+                                     tlm::tlm_phase& phase, sc_core::sc_time& delay);
+  void decide();
+  void schedule_wakeup();
+
+  std::unique_ptr<DramBackend> backend_;
+  std::vector<Pending> pending_;     // by request id
+  std::vector<uint64_t> free_ids_;
+  std::vector<DramCompletion> done_;  // scratch
+  sc_core::sc_event wake_;
+  bool wake_pending_ = false;  // wake_ is notified for wake_ps_
+  uint64_t wake_ps_ = 0;
+};
+
+}  // namespace rtusim

@@ -1,0 +1,105 @@
+#include "mem/dram/fr_fcfs_dram.h"
+
+#include <algorithm>
+
+#include "cache/stream_caches.h"
+#include "util/stats.h"
+
+namespace rtusim {
+
+FrFcfsDram::FrFcfsDram(const DramParams& p)
+    : p_(p), tRCD_(p.tRCD_ps()), tRP_(p.tRP_ps()), tCL_(p.tCL_ps()), tBurst_(p.burst_ps()) {
+  validate(p, "dram");
+  channels_.resize(p.channels);
+  for (Channel& c : channels_) c.banks.resize(p.banks);
+}
+
+FrFcfsDram::Location FrFcfsDram::locate(uint64_t addr) const {
+  const uint64_t chunk = addr / p_.row_bytes;
+  Location l;
+  l.channel = static_cast<uint32_t>(chunk % p_.channels);
+  l.bank = static_cast<uint32_t>((chunk / p_.channels) % p_.banks);
+  l.row = chunk / (uint64_t{p_.channels} * p_.banks);
+  return l;
+}
+
+void FrFcfsDram::enqueue(const DramRequest& r) {
+  const Location loc = locate(r.addr);
+  Channel& c = channels_[loc.channel];
+  c.queue.push_back({r, loc, seq_++});
+  next_decision_ps_ = std::min(next_decision_ps_, eligible_at(c, c.queue.back()));
+}
+
+void FrFcfsDram::recompute_next_decision() {
+  next_decision_ps_ = kNever;
+  for (const Channel& c : channels_)
+    for (const Queued& q : c.queue) next_decision_ps_ = std::min(next_decision_ps_, eligible_at(c, q));
+}
+
+void FrFcfsDram::advance(uint64_t now_ps, std::vector<DramCompletion>& out) {
+  if (next_decision_ps_ > now_ps) return;
+  for (Channel& c : channels_) {
+    for (;;) {
+      // FR-FCFS over the requests that can start now: row hits first, then age.
+      int best = -1;
+      bool best_hit = false;
+      for (size_t i = 0; i < c.queue.size(); ++i) {
+        const Queued& q = c.queue[i];
+        if (eligible_at(c, q) > now_ps) continue;
+        const bool hit = c.banks[q.loc.bank].open_row == q.loc.row;
+        if (best < 0 || (hit && !best_hit) ||
+            (hit == best_hit && (q.req.arrival_ps < c.queue[best].req.arrival_ps ||
+                                 (q.req.arrival_ps == c.queue[best].req.arrival_ps &&
+                                  q.seq < c.queue[best].seq)))) {
+          best = static_cast<int>(i);
+          best_hit = hit;
+        }
+      }
+      if (best < 0) break;
+      const Queued q = c.queue[best];
+      c.queue[best] = c.queue.back();
+      c.queue.pop_back();
+
+      Bank& b = c.banks[q.loc.bank];
+      const uint64_t start = eligible_at(c, q);
+      uint64_t column = start;
+      if (b.open_row == q.loc.row) {
+        ++row_hits_;
+      } else if (b.open_row == kNoRow) {
+        ++row_misses_;
+        column += tRCD_;
+      } else {
+        ++row_conflicts_;
+        column += tRP_ + tRCD_;
+      }
+      const uint32_t bursts = std::max<uint32_t>(1, (q.req.bytes + p_.burst_bytes() - 1) / p_.burst_bytes());
+      const uint64_t data_start = std::max(column + tCL_, c.bus_free_ps);
+      const uint64_t done = data_start + bursts * tBurst_;
+      c.bus_free_ps = done;
+      b.open_row = q.loc.row;
+      b.ready_ps = column + bursts * tBurst_;
+      ++requests_;
+      bytes_[static_cast<int>(q.req.stream)] += q.req.bytes;
+      busy_until_ps_ = std::max(busy_until_ps_, done);
+      out.push_back({q.req.id, done});
+    }
+  }
+  recompute_next_decision();
+}
+
+void FrFcfsDram::write_stats(Stats& stats, const std::string& prefix) const {
+  const uint64_t rows = row_hits_ + row_misses_ + row_conflicts_;
+  stats.set(prefix + ".requests", requests_);
+  stats.set(prefix + ".row_hits", row_hits_);
+  stats.set(prefix + ".row_misses", row_misses_);
+  stats.set(prefix + ".row_conflicts", row_conflicts_);
+  stats.set(prefix + ".row_hit_rate", rows ? double(row_hits_) / double(rows) : 0.0);
+  uint64_t total = 0;
+  for (int s = 0; s < 3; ++s) {
+    stats.set(prefix + ".bytes." + stream_stats_name(static_cast<Stream>(s)), bytes_[s]);
+    total += bytes_[s];
+  }
+  stats.set(prefix + ".bytes.total", total);
+}
+
+}  // namespace rtusim

@@ -1,0 +1,76 @@
+// A DRAM timing model: open-row policy, per-bank row state, one data bus per channel, and a
+// request queue per channel scheduled first-ready, first-come-first-served (FR-FCFS: among the
+// requests whose bank is ready, the oldest row hit goes first, else the oldest request).
+//
+// Timing of a request scheduled at time T on bank b (T = max(arrival, b.ready)):
+//   row hit      (b's open row is the request's): column command at T
+//   row miss     (b has no open row):             column command at T + tRCD
+//   row conflict (b has another row open):        column command at T + tRP + tRCD
+//   data on the bus from max(column + tCL, bus free) for bursts x tBurst; done at its end;
+//   b.ready = column + bursts x tBurst (the next column command to the bank).
+// An isolated request therefore takes tCL + tBurst (hit), tRCD + tCL + tBurst (miss) or
+// tRP + tRCD + tCL + tBurst (conflict). Not modelled: refresh, tRAS/tRC/tFAW/tRRD, bank groups,
+// the command bus, writes (the unit only reads).
+#pragma once
+#include <array>
+#include <vector>
+
+#include "mem/dram/dram_backend.h"
+#include "mem/dram/dram_params.h"
+
+namespace rtusim {
+
+class FrFcfsDram final : public DramBackend {
+ public:
+  // Validates `p` (keys named "dram.*").
+  explicit FrFcfsDram(const DramParams& p);
+
+  void enqueue(const DramRequest& r) override;
+  uint64_t next_decision_ps() const override { return next_decision_ps_; }
+  void advance(uint64_t now_ps, std::vector<DramCompletion>& out) override;
+  void write_stats(Stats& stats, const std::string& prefix) const override;
+  uint64_t bytes(Stream s) const override { return bytes_[static_cast<int>(s)]; }
+
+  struct Location {
+    uint32_t channel, bank;
+    uint64_t row;
+  };
+  Location locate(uint64_t addr) const;
+
+  uint64_t row_hits() const { return row_hits_; }
+  uint64_t row_misses() const { return row_misses_; }
+  uint64_t row_conflicts() const { return row_conflicts_; }
+
+ private:
+  static constexpr uint64_t kNoRow = ~uint64_t{0};
+  struct Queued {
+    DramRequest req;
+    Location loc;
+    uint64_t seq;  // arrival order, for FCFS ties
+  };
+  struct Bank {
+    uint64_t open_row = kNoRow;
+    uint64_t ready_ps = 0;
+  };
+  struct Channel {
+    std::vector<Queued> queue;  // unordered; picked by (row hit, arrival, seq)
+    std::vector<Bank> banks;
+    uint64_t bus_free_ps = 0;
+  };
+
+  uint64_t eligible_at(const Channel& c, const Queued& q) const {
+    return std::max(q.req.arrival_ps, c.banks[q.loc.bank].ready_ps);
+  }
+  void recompute_next_decision();
+
+  DramParams p_;
+  uint64_t tRCD_, tRP_, tCL_, tBurst_;
+  std::vector<Channel> channels_;
+  uint64_t next_decision_ps_ = kNever;
+  uint64_t seq_ = 0;
+  uint64_t row_hits_ = 0, row_misses_ = 0, row_conflicts_ = 0, requests_ = 0;
+  uint64_t busy_until_ps_ = 0;
+  std::array<uint64_t, 3> bytes_{};
+};
+
+}  // namespace rtusim

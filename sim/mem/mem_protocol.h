@@ -1,0 +1,62 @@
+// What the cycle tier's TLM-2.0 modules share: the payload tag, the memory horizon, time helpers.
+//
+// Protocol: TLM-2.0 approximately-timed base protocol (nb_transport_fw/bw, generic payload,
+// READ only). Chosen over loosely-timed because the DRAM schedules FR-FCFS: a request's
+// completion time depends on requests that arrive after it (a later row hit overtakes an older
+// row miss), so a target cannot answer in b_transport when the request arrives; with AT it
+// accepts the request (END_REQ) and answers later with BEGIN_RESP. Every call carries an
+// annotated delay (the payload's time is sc_time_stamp() + delay), so an initiator may run ahead
+// of the kernel (temporal decoupling) and a target may answer with a completion time in the
+// future; the receiver treats the annotation as the event time (its own event queue acts as the
+// payload event queue). A target may also complete at once (TLM_COMPLETED, e.g. a cache hit).
+//
+// The memory horizon bounds the decoupling: the earliest time at which a memory component will
+// act on its own (a DRAM scheduling decision). An initiator that runs ahead must not process an
+// event at or after the horizon before the kernel has reached it; until then nothing it has not
+// already been told about can happen, so it advances without context switches.
+#pragma once
+#include <cstdint>
+#include <limits>
+
+#include <systemc>
+#include <tlm>
+
+#include "layout/memory_image.h"
+
+namespace rtusim {
+
+// Tags a payload with its fetch stream and its owner's index (a ray slot, an MSHR).
+struct FetchTag : tlm::tlm_extension<FetchTag> {
+  Stream stream = Stream::kNode;
+  uint32_t owner = 0;
+  tlm::tlm_extension_base* clone() const override { return new FetchTag(*this); }
+  void copy_from(const tlm::tlm_extension_base& other) override {
+    *this = static_cast<const FetchTag&>(other);
+  }
+};
+
+class MemoryHorizon {
+ public:
+  static constexpr uint64_t kNever = std::numeric_limits<uint64_t>::max();
+  virtual ~MemoryHorizon() = default;
+  // Earliest absolute time (ps) at which this component acts on its own; kNever if idle.
+  virtual uint64_t horizon_ps() const = 0;
+};
+
+inline uint64_t now_ps() { return sc_core::sc_time_stamp().value(); }  // resolution is 1 ps
+inline sc_core::sc_time ps(uint64_t v) { return sc_core::sc_time::from_value(v); }
+
+// Sets up a READ payload of `bytes` at `addr` (no data buffer: the traversal reads the memory
+// image itself; the memory system models time only).
+inline void init_read(tlm::tlm_generic_payload& p, uint64_t addr, uint32_t bytes) {
+  p.set_command(tlm::TLM_READ_COMMAND);
+  p.set_address(addr);
+  p.set_data_ptr(nullptr);
+  p.set_data_length(bytes);
+  p.set_streaming_width(bytes);
+  p.set_byte_enable_ptr(nullptr);
+  p.set_dmi_allowed(false);
+  p.set_response_status(tlm::TLM_INCOMPLETE_RESPONSE);
+}
+
+}  // namespace rtusim

@@ -1,0 +1,86 @@
+#include "model/cycle_backend.h"
+
+#include <stdexcept>
+
+#include <systemc>
+
+#include "mem/dram/dram.h"
+#include "mem/l1_cache.h"
+#include "model/host_interface.h"
+#include "model/traversal_unit.h"
+#include "util/stats.h"
+
+namespace rtusim {
+
+struct CycleBackend::Top : sc_core::sc_module {
+  HostInterface host;
+  Dram dram;
+  L1Cache node_l1;
+  std::unique_ptr<L1Cache> data_cache;
+  TraversalUnit unit;
+
+  Top(const sc_core::sc_module_name& name, const MemoryImage& image, const CycleParams& p)
+      : sc_module(name),
+        host("host"),
+        dram("dram", p.dram),
+        node_l1("l1", p.node_l1),
+        unit("unit", p.unit, image, host) {
+    unit.node_socket.bind(node_l1.target_socket);
+    node_l1.initiator_socket.bind(dram.target_socket);
+    if (p.data_cache) {
+      data_cache = std::make_unique<L1Cache>("dcache", *p.data_cache);
+      unit.data_socket.bind(data_cache->target_socket);
+      data_cache->initiator_socket.bind(dram.target_socket);
+    } else {
+      unit.data_socket.bind(dram.target_socket);
+    }
+    unit.add_horizon(&dram);
+  }
+};
+
+namespace {
+CycleParams finished(CycleParams p) {
+  p.finish();
+  return p;
+}
+}  // namespace
+
+CycleBackend::CycleBackend(const MemoryImage& image, const CycleParams& params)
+    : params_(finished(params)), top_(std::make_unique<Top>("rtu", image, params_)) {}
+
+CycleBackend::~CycleBackend() = default;
+
+void CycleBackend::trace(std::span<const RayRecord> rays, std::span<Hit> hits) {
+  if (rays.empty()) return;
+  top_->host.post(rays, hits);
+  sc_core::sc_start();
+  if (!top_->host.batch_done())
+    throw std::logic_error("cycle backend: the simulation stopped before the batch was done");
+  rays_ += rays.size();
+}
+
+uint64_t CycleBackend::cycles() const {
+  return sc_core::sc_time_stamp().value() / params_.unit.clock_period_ps;
+}
+const L1Cache& CycleBackend::node_l1() const { return top_->node_l1; }
+const L1Cache* CycleBackend::data_cache() const { return top_->data_cache.get(); }
+const Dram& CycleBackend::dram() const { return top_->dram; }
+const TraversalUnit& CycleBackend::unit() const { return top_->unit; }
+
+void CycleBackend::write_stats(Stats& stats) const {
+  const uint64_t c = cycles();
+  const double seconds = double(c) / (params_.clock_mhz * 1e6);
+  stats.set("sim.cycles", c);
+  stats.set("sim.rays_per_second", seconds > 0 ? double(rays_) / seconds : 0.0);
+  const DramBackend& d = top_->dram.backend();
+  d.write_stats(stats, "dram");
+  const uint64_t total = d.bytes(Stream::kNode) + d.bytes(Stream::kList) + d.bytes(Stream::kTriangle);
+  stats.set("dram.gbytes_per_second", seconds > 0 ? double(total) / seconds / 1e9 : 0.0);
+  top_->node_l1.write_stats(stats, "l1");
+  if (top_->data_cache) top_->data_cache->write_stats(stats, "dcache");
+  top_->unit.write_stats(stats);
+  stats.set("unit.utilisation", c ? double(top_->unit.steps()) / double(c) : 0.0);
+  stats.set("traversal.node_fetches", top_->unit.steps());
+}
+
+}  // namespace rtusim

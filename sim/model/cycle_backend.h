@@ -1,0 +1,51 @@
+// The cycle tier behind the tracer's TraceBackend seam: a SystemC top of host interface,
+// traversal unit, node L1, optional list/triangle cache and DRAM, simulated batch by batch.
+// Time and counters accumulate across batches.
+//
+// SystemC elaborates once per process: construct at most one CycleBackend per process, and
+// construct it before the first trace() (trace() runs sc_start until the batch is done).
+#pragma once
+#include <memory>
+#include <span>
+
+#include "layout/memory_image.h"
+#include "model/cycle_params.h"
+#include "tracer/ray_batch.h"
+
+namespace rtusim {
+
+class Stats;
+class L1Cache;
+class Dram;
+class TraversalUnit;
+
+class CycleBackend final : public TraceBackend {
+ public:
+  // `image` must outlive the backend. Throws InputError on bad params.
+  CycleBackend(const MemoryImage& image, const CycleParams& params);
+  ~CycleBackend() override;
+
+  void trace(std::span<const RayRecord> rays, std::span<Hit> hits) override;
+
+  uint64_t cycles() const;  // simulated so far
+  uint64_t rays() const { return rays_; }
+  const L1Cache& node_l1() const;
+  const L1Cache* data_cache() const;  // nullptr when lists and triangles go straight to DRAM
+  const Dram& dram() const;
+  const TraversalUnit& unit() const;
+
+  // sim.cycles, sim.rays_per_second, dram.bytes.{nodes,lists,triangles,total},
+  // dram.gbytes_per_second, dram.row_hit_rate (and row hits/misses/conflicts, requests),
+  // l1.{accesses,hits,misses,primary_misses,merged_misses,mshr_stall_cycles,
+  // mean_miss_latency_cycles}, dcache.* likewise when on, unit.utilisation (steps per cycle),
+  // unit.* counters, traversal.node_fetches.
+  void write_stats(Stats& stats) const;
+
+ private:
+  struct Top;
+  CycleParams params_;
+  std::unique_ptr<Top> top_;
+  uint64_t rays_ = 0;
+};
+
+}  // namespace rtusim

@@ -1,0 +1,100 @@
+// The traversal unit's event queue: at most one event per ray slot, at a cycle no earlier than
+// the last one taken. A timing wheel of one bucket per cycle over the next kWheelCycles (FIFO
+// lists threaded through the slots, a bitmap of non-empty buckets), plus a heap for the rare
+// event further ahead. Push and pop are O(1) when events are dense in time, as they are when the
+// unit is busy; a binary heap costs a mispredicted branch per level.
+#pragma once
+#include <algorithm>
+#include <bit>
+#include <cstdint>
+#include <functional>
+#include <queue>
+#include <vector>
+
+namespace rtusim {
+
+class EventWheel {
+ public:
+  static constexpr uint64_t kWheelCycles = 4096;
+  static constexpr uint32_t kNone = ~uint32_t{0};
+
+  explicit EventWheel(uint32_t slots)
+      : link_(slots, kNone), head_(kWheelCycles, kNone), tail_(kWheelCycles, kNone),
+        nonempty_(kWheelCycles / 64, 0) {}
+
+  bool empty() const { return count_ == 0; }
+
+  // Schedules `slot` at `cycle` (>= the cycle of the last pop).
+  void push(uint64_t cycle, uint32_t slot) {
+    ++count_;
+    if (next_ != kUnknown) next_ = std::min(next_, cycle);  // else found at the next peek
+    if (cycle >= now_ + kWheelCycles) {
+      far_.push(cycle << 20 | slot);  // slots < 2^20
+      return;
+    }
+    const uint64_t b = cycle & (kWheelCycles - 1);
+    link_[slot] = kNone;
+    if (head_[b] == kNone) {
+      head_[b] = slot;
+      nonempty_[b / 64] |= uint64_t{1} << (b % 64);
+    } else {
+      link_[tail_[b]] = slot;
+    }
+    tail_[b] = slot;
+  }
+
+  // Cycle of the next event (the queue must not be empty).
+  uint64_t top_cycle() {
+    if (next_ == kUnknown) {
+      const uint64_t far = far_.empty() ? ~uint64_t{0} : far_.top() >> 20;
+      next_ = std::min(next_wheel_cycle(), far);
+    }
+    return next_;
+  }
+
+  // Takes the next event: its slot; `cycle` receives its cycle.
+  uint32_t pop(uint64_t& cycle) {
+    --count_;
+    const uint64_t wheel = top_cycle();
+    next_ = kUnknown;
+    if (!far_.empty() && (far_.top() >> 20) <= wheel) {
+      const uint64_t key = far_.top();
+      far_.pop();
+      cycle = key >> 20;
+      now_ = cycle;
+      return static_cast<uint32_t>(key & ((1u << 20) - 1));
+    }
+    const uint64_t b = wheel & (kWheelCycles - 1);
+    const uint32_t slot = head_[b];
+    head_[b] = link_[slot];
+    if (head_[b] == kNone) nonempty_[b / 64] &= ~(uint64_t{1} << (b % 64));
+    cycle = wheel;
+    now_ = wheel;
+    return slot;
+  }
+
+ private:
+  // First non-empty bucket from now_, as a cycle (all wheel events are in [now_, now_ + W)).
+  uint64_t next_wheel_cycle() const {
+    constexpr uint64_t kWords = kWheelCycles / 64;
+    uint64_t c = now_;
+    for (uint64_t i = 0; i <= kWords; ++i) {
+      const uint64_t b = c & (kWheelCycles - 1);
+      const uint64_t bits = nonempty_[b / 64] & (~uint64_t{0} << (b % 64));
+      if (bits) return c - (b % 64) + static_cast<uint64_t>(std::countr_zero(bits));
+      c += 64 - (b % 64);
+    }
+    return ~uint64_t{0};
+  }
+
+  std::vector<uint32_t> link_;  // per slot: the next slot in its bucket
+  std::vector<uint32_t> head_, tail_;
+  std::vector<uint64_t> nonempty_;
+  std::priority_queue<uint64_t, std::vector<uint64_t>, std::greater<uint64_t>> far_;
+  static constexpr uint64_t kUnknown = ~uint64_t{0};
+  uint64_t now_ = 0;
+  uint64_t count_ = 0;
+  uint64_t next_ = kUnknown;  // cycle of the next event, when known
+};
+
+}  // namespace rtusim

@@ -1,0 +1,324 @@
+#include "model/traversal_unit.h"
+
+#include <algorithm>
+#include <bit>
+#include <stdexcept>
+
+#include "layout/layout_dispatch.h"
+#include "util/error.h"
+#include "util/stats.h"
+
+namespace rtusim {
+
+void validate(const UnitParams& p) {
+  auto at_least_1 = [](uint64_t v, const char* key) {
+    if (v == 0) throw InputError(std::string(key) + ": must be at least 1");
+  };
+  at_least_1(p.rays_in_flight, "sim.rays_in_flight");
+  at_least_1(p.clock_period_ps, "sim.clock_mhz");
+  at_least_1(p.stack_depth, "sim.stack_depth");
+  at_least_1(p.isect_lanes, "isect.lanes");
+  at_least_1(p.isect_interval_cycles, "isect.interval_cycles");
+  at_least_1(p.node_line_bytes, "l1.line");
+  at_least_1(p.data_line_bytes, "dcache.line");
+  if (p.rays_in_flight > (1u << 20))
+    throw InputError("sim.rays_in_flight: " + std::to_string(p.rays_in_flight) +
+                     " is more than 1048576");
+  if (p.stack_depth > TraversalState::kStackDepth)
+    throw InputError("sim.stack_depth: " + std::to_string(p.stack_depth) + " is more than " +
+                     std::to_string(TraversalState::kStackDepth) + " entries");
+}
+
+namespace {
+const UnitParams& checked(const UnitParams& p) {
+  validate(p);
+  return p;
+}
+}  // namespace
+
+TraversalUnit::TraversalUnit(const sc_core::sc_module_name& name, const UnitParams& p,
+                             const MemoryImage& image, HostInterface& host)
+    : sc_module(name),
+      node_socket("node_socket"),
+      data_socket("data_socket"),
+      p_(checked(p)),
+      period_(p.clock_period_ps),
+      image_(image),
+      host_(host),
+      slots_(p.rays_in_flight),
+      events_(p.rays_in_flight),
+      step_calendar_(kCalendarCycles / 64, 0),
+      lane_free_(p.isect_lanes, 0) {
+  node_socket.register_nb_transport_bw(this, &TraversalUnit::nb_transport_bw);
+  data_socket.register_nb_transport_bw(this, &TraversalUnit::nb_transport_bw);
+  SC_THREAD(run);
+}
+
+uint64_t TraversalUnit::horizon() const {
+  uint64_t h = MemoryHorizon::kNever;
+  for (const MemoryHorizon* m : horizons_) h = std::min(h, m->horizon_ps());
+  return h;
+}
+
+void TraversalUnit::run() {
+  for (;;) {
+    // A batch posted before the first sc_start() notifies before this thread waits: check.
+    if (!host_.has_work()) {
+      wait(host_.posted());
+      continue;
+    }
+    with_layout_decoder(image_, [&]<class Decoder>() { run_batch<Decoder>(); });
+  }
+}
+
+template <class Decoder>
+void TraversalUnit::run_batch() {
+  const uint64_t t0 = cycle_at_or_after(now_ps());
+  last_cycle_ = t0;
+  for (uint32_t i = 0; i < slots_.size(); ++i) start_ray(i, t0);
+  while (active_ > 0) {
+    const uint64_t h = horizon();
+    if (events_.empty() || events_.top_cycle() * period_ >= h) {
+      // Nothing to do before the memory acts on its own: let the kernel get there.
+      if (h == MemoryHorizon::kNever)
+        throw std::logic_error("traversal unit: rays wait for memory that has nothing scheduled");
+      const uint64_t now = now_ps();
+      wait(h > now ? ps(h - now) : sc_core::SC_ZERO_TIME);
+      ++kernel_waits_;
+      continue;
+    }
+    uint64_t t;
+    const uint32_t slot = events_.pop(t);
+    last_cycle_ = std::max(last_cycle_, t);
+    ++events_processed_;
+    process<Decoder>(slots_[slot], slot, t);
+  }
+  // The kernel catches up with the unit: the batch ends at its last event.
+  const uint64_t end_ps = last_cycle_ * period_, now = now_ps();
+  if (end_ps > now) wait(ps(end_ps - now));
+}
+
+void TraversalUnit::start_ray(uint32_t slot, uint64_t t) {
+  Slot& s = slots_[slot];
+  uint32_t index;
+  while (host_.next(index)) {
+    const RayRecord& r = host_.ray(index);
+    traversal_begin(s.st, image_, r.ray, r.any_hit());
+    ++rays_;
+    if (s.st.done) {  // misses the scene's bounds: no step at all
+      host_.complete(index, s.st.hit);
+      continue;
+    }
+    s.active = true;
+    s.ray = index;
+    ++active_;
+    schedule_step(slot, t);
+    return;
+  }
+  s.active = false;
+}
+
+void TraversalUnit::finish_ray(uint32_t slot, uint64_t t) {
+  Slot& s = slots_[slot];
+  host_.complete(s.ray, s.st.hit);
+  last_cycle_ = std::max(last_cycle_, t);
+  s.active = false;
+  --active_;
+  start_ray(slot, t);
+}
+
+void TraversalUnit::schedule_step(uint32_t slot, uint64_t t) {
+  constexpr uint64_t kWords = kCalendarCycles / 64;
+  // Forget the bookings of cycles that have passed (the events being processed are at or after
+  // the last one), a word at a time.
+  const uint64_t now_cycle = last_cycle_;
+  if (now_cycle >= calendar_clear_ + kCalendarCycles) {  // a long idle gap: forget everything
+    std::fill(step_calendar_.begin(), step_calendar_.end(), 0);
+    calendar_clear_ = now_cycle / 64 * 64;
+  }
+  while (calendar_clear_ + 64 <= now_cycle) {
+    step_calendar_[(calendar_clear_ / 64) % kWords] = 0;
+    calendar_clear_ += 64;
+  }
+  if (t >= calendar_clear_ + kCalendarCycles - 128) {  // beyond the window: book later
+    slots_[slot].phase = Phase::kBook;
+    push(slot, t);
+    return;
+  }
+  uint64_t c = t;
+  for (;;) {
+    uint64_t& word = step_calendar_[(c / 64) % kWords];
+    const uint64_t free_bits = ~word & (~uint64_t{0} << (c % 64));
+    if (free_bits) {
+      c = c / 64 * 64 + static_cast<uint64_t>(std::countr_zero(free_bits));
+      word |= uint64_t{1} << (c % 64);
+      break;
+    }
+    c = c / 64 * 64 + 64;
+  }
+  if (c >= calendar_clear_ + kCalendarCycles - 64) {  // the window is full: book later
+    step_calendar_[(c / 64) % kWords] &= ~(uint64_t{1} << (c % 64));
+    slots_[slot].phase = Phase::kBook;
+    push(slot, c);
+    return;
+  }
+  slots_[slot].phase = Phase::kStep;
+  push(slot, c);
+}
+
+void TraversalUnit::data_ready(uint32_t slot, uint64_t ready) {
+  Slot& s = slots_[slot];
+  switch (s.phase) {
+    case Phase::kNodeWait: {  // the node is in: the step is decided step_cycles later
+      const uint64_t decided = ready + p_.step_cycles;
+      if (s.kind == StepKind::kInterior) {
+        schedule_step(slot, decided);
+      } else {
+        s.phase = Phase::kLeafBody;
+        push(slot, decided);
+      }
+      return;
+    }
+    case Phase::kListWait:
+      s.phase = Phase::kTriangles;
+      push(slot, ready);
+      return;
+    case Phase::kTriWait:
+      s.phase = Phase::kIsect;
+      push(slot, ready);
+      return;
+    default:
+      throw std::logic_error("traversal unit: data for a ray that waits for none");
+  }
+}
+
+template <class Decoder>
+void TraversalUnit::process(Slot& s, uint32_t index, uint64_t t) {
+  // Fetches of the leaf's triangles start after its list, if it has one.
+  const size_t first_triangle =
+      s.fetches.size() > 1 && s.fetches[1].stream == Stream::kList ? 2 : 1;
+  switch (s.phase) {
+    case Phase::kStep: {
+      s.fetches.clear();
+      Recorder rec{&s.fetches};
+      s.kind = traversal_step<Decoder>(s.st, image_, rec);
+      if (s.kind == StepKind::kDone) {  // not reached: finished rays leave after their leaf
+        finish_ray(index, t);
+        return;
+      }
+      ++steps_;
+      max_stack_ = std::max(max_stack_, s.st.sp);
+      if (s.st.sp > static_cast<int>(p_.stack_depth)) ++stack_overflows_;
+      s.phase = Phase::kNodeWait;
+      issue(index, 0, 1, t);
+      return;
+    }
+    case Phase::kBook:
+      schedule_step(index, t);
+      return;
+    case Phase::kLeafBody:
+      ++leaf_steps_;
+      if (first_triangle == 2) {
+        s.phase = Phase::kListWait;
+        issue(index, 1, 2, t);
+        return;
+      }
+      [[fallthrough]];
+    case Phase::kTriangles:
+      if (first_triangle < s.fetches.size()) {
+        s.phase = Phase::kTriWait;
+        issue(index, first_triangle, s.fetches.size(), t);
+        return;
+      }
+      [[fallthrough]];  // an empty leaf
+    case Phase::kIsect: {
+      // Every triangle fetched goes through the intersection pipeline.
+      uint64_t end = t;
+      for (size_t i = first_triangle; i < s.fetches.size(); ++i) {
+        auto lane = std::min_element(lane_free_.begin(), lane_free_.end());
+        const uint64_t start = std::max(t, *lane);
+        *lane = start + p_.isect_interval_cycles;
+        end = std::max(end, start + p_.isect_latency_cycles);
+        ++isect_tests_;
+      }
+      if (s.st.done)
+        finish_ray(index, end);
+      else
+        schedule_step(index, end);
+      return;
+    }
+    default:
+      throw std::logic_error("traversal unit: event for a ray that waits for data");
+  }
+}
+
+void TraversalUnit::issue(uint32_t slot, size_t first, size_t last, uint64_t t) {
+  Slot& s = slots_[slot];
+  s.pending = 0;
+  s.ready = t;
+  s.issuing = true;
+  const sc_core::sc_time offset = ps(t * period_ - now_ps());
+  for (size_t i = first; i < last; ++i) {
+    const Fetch& f = s.fetches[i];
+    if (f.bytes == 0) continue;
+    const bool node = f.stream == Stream::kNode;
+    const uint64_t line = node ? p_.node_line_bytes : p_.data_line_bytes;
+    auto& socket = node ? node_socket : data_socket;
+    for (uint64_t a = f.addr; a < f.addr + f.bytes;) {
+      const uint64_t end = std::min<uint64_t>(f.addr + f.bytes, (a / line + 1) * line);
+      tlm::tlm_generic_payload* p;
+      if (free_payloads_.empty()) {
+        p = &payloads_.emplace_back();
+        p->set_extension(new FetchTag);
+      } else {
+        p = free_payloads_.back();
+        free_payloads_.pop_back();
+      }
+      FetchTag* tag = p->get_extension<FetchTag>();
+      tag->stream = f.stream;
+      tag->owner = slot;
+      // One request per line touched, for the whole line: the caches fill lines, and a data
+      // path straight to DRAM reads whole bursts (the functional tier's accounting).
+      init_read(*p, a / line * line, static_cast<uint32_t>(line));
+      ++s.pending;
+      tlm::tlm_phase phase = tlm::BEGIN_REQ;
+      sc_core::sc_time delay = offset;
+      if (socket->nb_transport_fw(*p, phase, delay) == tlm::TLM_COMPLETED)
+        arrived(*p, now_ps() + delay.value());
+      a = end;
+    }
+  }
+  s.issuing = false;
+  if (s.pending == 0) data_ready(slot, s.ready);
+}
+
+tlm::tlm_sync_enum TraversalUnit::nb_transport_bw(tlm::tlm_generic_payload& trans,
+                                                  tlm::tlm_phase& phase,
+                                                  sc_core::sc_time& delay) {
+  if (phase == tlm::BEGIN_RESP) arrived(trans, now_ps() + delay.value());
+  return tlm::TLM_COMPLETED;
+}
+
+void TraversalUnit::arrived(tlm::tlm_generic_payload& trans, uint64_t at_ps) {
+  if (trans.get_response_status() != tlm::TLM_OK_RESPONSE)
+    throw std::logic_error("traversal unit: memory error at address " +
+                           std::to_string(trans.get_address()));
+  const uint32_t slot = trans.get_extension<FetchTag>()->owner;
+  free_payloads_.push_back(&trans);
+  Slot& s = slots_[slot];
+  s.ready = std::max(s.ready, cycle_at_or_after(at_ps));
+  if (--s.pending == 0 && !s.issuing) data_ready(slot, s.ready);
+}
+
+void TraversalUnit::write_stats(Stats& stats) const {
+  stats.set("unit.rays", rays_);
+  stats.set("unit.steps", steps_);
+  stats.set("unit.leaf_steps", leaf_steps_);
+  stats.set("unit.isect_tests", isect_tests_);
+  stats.set("unit.max_stack_depth", max_stack_);
+  stats.set("unit.stack_overflow_steps", stack_overflows_);
+  stats.set("unit.events", events_processed_);      // simulator effort: unit events processed
+  stats.set("unit.kernel_waits", kernel_waits_);    // and SystemC waits (memory-horizon syncs)
+}
+
+}  // namespace rtusim

@@ -1,0 +1,146 @@
+// The traversal unit: a pool of rays in flight (like the T&I Engine's ray accumulation unit),
+// each advanced by the shared traversal_step(), with the time its fetches and tests take.
+//
+// Per ray, one step: the traversal pipeline (one step issued per cycle) runs traversal_step(),
+// which decides the step and records its fetches; the node fetch goes to the node L1 at once;
+// when the node is there the step takes step_cycles more; an interior step then issues the next
+// step; a leaf reads its primitive list (if it has one, after step_cycles), then all its
+// triangles at once (each line of each triangle one request), then tests them in the
+// intersection pipeline (lanes, each accepting a test every interval_cycles, a result latency
+// cycles later). A ray waiting for memory holds only its slot; the others go on. A finished ray
+// frees its slot for the next ray of the batch at the same cycle.
+//
+// Simulation: one SC_THREAD runs an event queue of (time, ray) in time order, temporally
+// decoupled: it processes events without yielding until the next one is at or after the memory
+// horizon (the DRAM's next scheduling decision), then waits for the kernel to reach it. Memory
+// responses arrive as annotated BEGIN_RESP calls and become events. So the kernel switches
+// context about once per DRAM decision, not once per node.
+#pragma once
+#include <cstdint>
+#include <deque>
+#include <string>
+#include <vector>
+
+#include <systemc>
+#include <tlm>
+#include <tlm_utils/simple_initiator_socket.h>
+
+#include "layout/memory_image.h"
+#include "mem/mem_protocol.h"
+#include "model/event_wheel.h"
+#include "model/host_interface.h"
+#include "traversal/traversal.h"
+
+namespace rtusim {
+
+class Stats;
+
+struct UnitParams {
+  uint32_t rays_in_flight = 32;
+  uint64_t clock_period_ps = 1000;
+  uint32_t step_cycles = 4;       // node arrival -> step decided
+  uint32_t stack_depth = 32;      // hardware stack entries per ray (steps deeper are counted)
+  uint32_t isect_lanes = 1;
+  uint32_t isect_latency_cycles = 20;
+  uint32_t isect_interval_cycles = 1;  // initiation interval per lane
+  uint32_t node_line_bytes = 64;  // node fetches are split at node L1 lines
+  uint32_t data_line_bytes = 64;  // list/triangle fetches: data cache lines or DRAM bursts
+};
+
+// Throws InputError naming the config key of a bad value.
+void validate(const UnitParams& p);
+
+class TraversalUnit : public sc_core::sc_module {
+ public:
+  tlm_utils::simple_initiator_socket<TraversalUnit> node_socket;  // to the node L1
+  tlm_utils::simple_initiator_socket<TraversalUnit> data_socket;  // lists + triangles
+
+  TraversalUnit(const sc_core::sc_module_name& name, const UnitParams& p,
+                const MemoryImage& image, HostInterface& host);
+
+  SC_HAS_PROCESS(TraversalUnit);
+
+  // A memory component whose own activity bounds the unit's run-ahead.
+  void add_horizon(const MemoryHorizon* h) { horizons_.push_back(h); }
+
+  uint64_t steps() const { return steps_; }
+  void write_stats(Stats& stats) const;  // unit.*
+
+ private:
+  // What a ray does at its next event (kStep, kLeafBody, kTriangles, kIsect) or which data it
+  // waits for (kNodeWait, kListWait, kTriWait).
+  // kBook: ready for a step too far ahead for the calendar; books when its time comes.
+  enum class Phase : uint8_t {
+    kStep, kBook, kNodeWait, kLeafBody, kListWait, kTriangles, kTriWait, kIsect
+  };
+  struct Fetch {
+    Stream stream;
+    uint64_t addr;
+    uint32_t bytes;
+  };
+  struct Recorder {
+    std::vector<Fetch>* out;
+    void fetch(Stream s, uint64_t addr, uint32_t bytes) { out->push_back({s, addr, bytes}); }
+  };
+  struct Slot {
+    bool active = false;
+    uint32_t ray = 0;
+    Phase phase = Phase::kStep;
+    StepKind kind = StepKind::kDone;
+    TraversalState st;
+    std::vector<Fetch> fetches;  // of the current step, in issue order
+    uint32_t pending = 0;        // line requests outstanding
+    uint64_t ready = 0;          // latest data cycle among them
+    bool issuing = false;
+  };
+
+  void run();
+  template <class Decoder>
+  void run_batch();
+  // Times inside the unit are cycles of its clock; picoseconds only at the sockets.
+  template <class Decoder>
+  void process(Slot& s, uint32_t index, uint64_t cycle);
+  void start_ray(uint32_t slot, uint64_t cycle);
+  void finish_ray(uint32_t slot, uint64_t cycle);
+  // Books the step pipeline from `cycle` on and schedules the slot's next step there.
+  void schedule_step(uint32_t slot, uint64_t cycle);
+  // All data the slot waited for is there at `cycle`.
+  void data_ready(uint32_t slot, uint64_t cycle);
+  void push(uint32_t slot, uint64_t cycle) { events_.push(cycle, slot); }
+  // Issues fetches [first, last) of the slot's step at `cycle`; schedules the slot when all
+  // are in.
+  void issue(uint32_t slot, size_t first, size_t last, uint64_t cycle);
+  tlm::tlm_sync_enum nb_transport_bw(tlm::tlm_generic_payload& trans, tlm::tlm_phase& phase,
+                                     sc_core::sc_time& delay);
+  void arrived(tlm::tlm_generic_payload& trans, uint64_t at_ps);
+  uint64_t horizon() const;
+  uint64_t cycle_at_or_after(uint64_t t_ps) const { return (t_ps + period_ - 1) / period_; }
+
+  UnitParams p_;
+  uint64_t period_;
+  const MemoryImage& image_;
+  HostInterface& host_;
+  std::vector<const MemoryHorizon*> horizons_;
+  std::vector<Slot> slots_;
+  EventWheel events_;
+  uint32_t active_ = 0;
+  // The step pipeline takes one step per cycle. Bookings as a bit per cycle over a window of
+  // kCalendarCycles from the current cycle (far more than any memory latency); bits behind the
+  // current cycle are cleared as time passes. A step books the first free cycle from the one it
+  // is ready in.
+  static constexpr uint64_t kCalendarCycles = uint64_t{1} << 16;
+  std::vector<uint64_t> step_calendar_;  // kCalendarCycles / 64 words
+  uint64_t calendar_clear_ = 0;          // cycles before this one are cleared
+  std::vector<uint64_t> lane_free_;  // per intersection lane: next cycle it takes a test
+
+  std::deque<tlm::tlm_generic_payload> payloads_;  // each owns its FetchTag
+  std::vector<tlm::tlm_generic_payload*> free_payloads_;
+  uint64_t last_cycle_ = 0;  // of the last event processed
+
+  uint64_t steps_ = 0, leaf_steps_ = 0, isect_tests_ = 0, rays_ = 0;
+  uint64_t stack_overflows_ = 0;
+  uint64_t events_processed_ = 0, kernel_waits_ = 0;
+  int max_stack_ = 0;
+};
+
+}  // namespace rtusim
