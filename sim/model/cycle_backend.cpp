@@ -43,15 +43,32 @@ CycleParams finished(CycleParams p) {
   p.finish();
   return p;
 }
+// A new SystemC context, made current, for one backend's top.
+sc_core::sc_simcontext* fresh_context() {
+  auto* context = new sc_core::sc_simcontext;
+  sc_core::sc_curr_simcontext = context;
+  sc_core::sc_default_global_context = context;
+  return context;
+}
 }  // namespace
 
 CycleBackend::CycleBackend(const MemoryImage& image, const CycleParams& params)
-    : params_(finished(params)), top_(std::make_unique<Top>("rtu", image, params_)) {}
+    : params_(finished(params)),
+      context_(fresh_context()),
+      top_(std::make_unique<Top>("rtu", image, params_)) {}
 
-CycleBackend::~CycleBackend() = default;
+// The context is left alive: SystemC 2.3's kernel keeps process handles that may still refer
+// to it after its modules are gone, and it is a few kilobytes per backend.
+CycleBackend::~CycleBackend() { top_.reset(); }
+
+void CycleBackend::make_current() const {
+  sc_core::sc_curr_simcontext = context_;
+  sc_core::sc_default_global_context = context_;
+}
 
 void CycleBackend::trace(std::span<const RayRecord> rays, std::span<Hit> hits) {
   if (rays.empty()) return;
+  make_current();
   top_->host.post(rays, hits);
   sc_core::sc_start();
   if (!top_->host.batch_done())
@@ -60,7 +77,7 @@ void CycleBackend::trace(std::span<const RayRecord> rays, std::span<Hit> hits) {
 }
 
 uint64_t CycleBackend::cycles() const {
-  return sc_core::sc_time_stamp().value() / params_.unit.clock_period_ps;
+  return context_->time_stamp().value() / params_.unit.clock_period_ps;
 }
 const L1Cache& CycleBackend::node_l1() const { return top_->node_l1; }
 const L1Cache* CycleBackend::data_cache() const { return top_->data_cache.get(); }

@@ -2,8 +2,9 @@
 // traversal unit, node L1, optional list/triangle cache and DRAM, simulated batch by batch.
 // Time and counters accumulate across batches.
 //
-// SystemC elaborates once per process: construct at most one CycleBackend per process, and
-// construct it before the first trace() (trace() runs sc_start until the batch is done).
+// SystemC elaborates once per simulation context: each CycleBackend builds its top in a context
+// of its own, so a process may run several backends one after another (one per layout, one per
+// regress case); trace() runs sc_start in that context until the batch is done.
 #pragma once
 #include <memory>
 #include <span>
@@ -11,6 +12,10 @@
 #include "layout/memory_image.h"
 #include "model/cycle_params.h"
 #include "tracer/ray_batch.h"
+
+namespace sc_core {
+class sc_simcontext;
+}
 
 namespace rtusim {
 
@@ -43,7 +48,10 @@ class CycleBackend final : public TraceBackend {
 
  private:
   struct Top;
+  void make_current() const;  // this backend's context becomes SystemC's current one
+
   CycleParams params_;
+  sc_core::sc_simcontext* context_;  // owned; declared before top_, destroyed after it
   std::unique_ptr<Top> top_;
   uint64_t rays_ = 0;
 };
