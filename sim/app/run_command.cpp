@@ -31,21 +31,30 @@ void print_summary(const RunOptions& opts, const std::string& out_dir, const Pre
   std::printf("  node L1  %llu B, %u-way, %u B lines, %s; GB/s at %.0f frames/s\n",
               (unsigned long long)l1.size_bytes, l1.assoc, l1.line_bytes, l1.policy.c_str(),
               p.config.sim.frames_per_second);
-  std::printf("  %-8s %12s %12s %14s %14s %10s %9s\n", "layout", "node memory", "L1 misses",
+  const bool timed = p.config.sim.tier != Tier::kFunctional;
+  std::printf("  %-8s %12s %12s %10s %11s %9s %9s", "layout", "node memory", "L1 misses",
               "miss rate", "node B/ray", "node MB", "node GB/s");
+  if (timed) std::printf(" %12s %9s %8s", "cycles", "DRAM GB/s", "Mrays/s");
+  std::printf("\n");
   for (const LayoutRun& run : r.layouts) {
     const Stats& s = run.stats;
-    std::printf("  %-8s %12llu %12llu %13.2f%% %14.1f %10.2f %9.3f\n", run.kind.c_str(),
+    std::printf("  %-8s %12llu %12llu %9.2f%% %11.1f %9.2f %9.3f", run.kind.c_str(),
                 s.at("tree.bytes").get<unsigned long long>(),
                 s.at("l1.misses").get<unsigned long long>(),
                 100.0 * s.at("l1.miss_rate").get<double>(),
                 s.at("report.node_dram_bytes_per_ray").get<double>(),
                 s.at("dram.bytes.nodes").get<double>() / 1e6,
                 s.at("report.node_gbytes_per_second").get<double>());
+    if (timed)
+      std::printf(" %12llu %9.2f %8.1f", s.at("sim.cycles").get<unsigned long long>(),
+                  s.at("dram.gbytes_per_second").get<double>(),
+                  s.at("sim.rays_per_second").get<double>() / 1e6);
+    std::printf("\n");
   }
   const double secs = r.layouts.front().stats.at("trace.seconds").get<double>();
-  std::printf("  traced in %.3f s per layout (%.2f Mrays/s, functional tier, 1 thread)\n", secs,
-              f.rays_total() / std::max(secs, 1e-9) / 1e6);
+  std::printf("  simulated in %.3f s per layout (%.2f Mrays/s of wall time, %s tier, 1 thread)%s\n",
+              secs, f.rays_total() / std::max(secs, 1e-9) / 1e6, p.config.sim.tier_name.c_str(),
+              timed ? "; node GB/s at the frame rate, DRAM GB/s and Mrays/s at the unit's clock" : "");
 }
 
 }  // namespace
@@ -65,7 +74,8 @@ int run_command(const RunOptions& opts) {
   const int w = r.frame.width, h = r.frame.height;
   if (p.config.image.write_png)
     write_png(outputs.stage("image.png").string(), w, h, to_srgb8(r.frame.radiance));
-  if (p.config.image.heatmaps) {
+  // Heatmaps need each ray's traffic, which only the functional tier attributes to pixels.
+  if (p.config.image.heatmaps && !r.layouts.front().pixel_dram_bytes.empty()) {
     uint64_t max_bytes = 1;
     for (const LayoutRun& run : r.layouts)
       for (uint64_t b : run.pixel_dram_bytes) max_bytes = std::max(max_bytes, b);

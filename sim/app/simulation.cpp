@@ -5,7 +5,11 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "util/error.h"
+
+#include "model/cycle_backend.h"
 #include "tier/functional_backend.h"
+#include "tier/progress_backend.h"
 
 namespace rtusim {
 namespace {
@@ -35,29 +39,41 @@ void add_run_stats(const Prepared& p, const FrameResult& frame, Stats& s) {
   s.set("report.frames_per_second", p.config.sim.frames_per_second);
 }
 
-void add_layout_stats(const MemoryImage& image, const FunctionalBackend& backend,
-                      const FrameResult& frame, double fps, double seconds, Stats& s) {
+// Keys of a layout's memory image.
+void add_image_stats(const MemoryImage& image, Stats& s) {
   s.set("layout.kind", image.layout);
   s.set("tree.bytes", image.nodes.size_bytes);
   s.set("mem.nodes.bytes", image.nodes.size_bytes);
   s.set("mem.lists.bytes", image.lists.size_bytes);
   s.set("mem.triangles.bytes", image.triangles.size_bytes);
   s.set("mem.image.bytes", image.bytes.size());
-  const FetchCache& c = backend.caches();
-  s.set("traversal.node_fetches", c.stream(Stream::kNode).fetches);
-  s.set("traversal.list_fetches", c.stream(Stream::kList).fetches);
-  s.set("traversal.triangle_fetches", c.stream(Stream::kTriangle).fetches);
-  c.write_stats(s);
+}
+
+// Figures derived from a tier's counters, the same for every tier.
+void add_report_stats(const FrameResult& frame, double fps, double seconds, Stats& s) {
   const double rays = static_cast<double>(std::max<uint64_t>(1, frame.rays_total()));
-  const uint64_t node_bytes = c.stream(Stream::kNode).dram_bytes;
-  const auto& l1 = c.stream(Stream::kNode);
-  s.set("l1.miss_rate", l1.accesses ? double(l1.misses) / double(l1.accesses) : 0.0);
-  s.set("report.node_dram_bytes_per_ray", double(node_bytes) / rays);
-  s.set("report.dram_bytes_per_frame", c.dram_bytes_total());
-  s.set("report.node_gbytes_per_second", double(node_bytes) * fps / 1e9);
-  s.set("report.dram_gbytes_per_second", double(c.dram_bytes_total()) * fps / 1e9);
+  const double node_bytes = s.at("dram.bytes.nodes").get<double>();
+  const double total_bytes = s.at("dram.bytes.total").get<double>();
+  const double accesses = s.at("l1.accesses").get<double>();
+  s.set("l1.miss_rate", accesses > 0 ? s.at("l1.misses").get<double>() / accesses : 0.0);
+  s.set("report.node_dram_bytes_per_ray", node_bytes / rays);
+  s.set("report.dram_bytes_per_frame", s.at("dram.bytes.total"));
+  s.set("report.node_gbytes_per_second", node_bytes * fps / 1e9);
+  s.set("report.dram_gbytes_per_second", total_bytes * fps / 1e9);
   s.set("trace.seconds", seconds);
   s.set("trace.rays_per_second", seconds > 0 ? rays / seconds : 0.0);
+}
+
+// Traces the frame through `backend` (with a progress bar) and times it.
+FrameResult render_timed(const Prepared& p, TraceBackend& backend, const std::string& label,
+                         double& seconds) {
+  const int w = p.config.image.width, h = p.config.image.height;
+  ProgressBackend progress(backend, uint64_t(w) * h, label);
+  WhittedTracer tracer(p.scene, p.config.tracer, progress);
+  const auto t0 = std::chrono::steady_clock::now();
+  FrameResult frame = tracer.render(PinholeCamera(p.camera, w, h), w, h);
+  seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return frame;
 }
 
 }  // namespace
@@ -65,25 +81,35 @@ void add_layout_stats(const MemoryImage& image, const FunctionalBackend& backend
 SimulationResult simulate(const Prepared& p) {
   SimulationResult result;
   const int w = p.config.image.width, h = p.config.image.height;
-  const PinholeCamera camera(p.camera, w, h);
   for (const MemoryImage& image : p.images) {
     // The same rays for every layout: hits do not depend on the layout, so neither do rays.
-    FunctionalBackend backend(image, p.config.caches, static_cast<uint32_t>(w * h));
-    WhittedTracer tracer(p.scene, p.config.tracer, backend);
-    const auto t0 = std::chrono::steady_clock::now();
-    FrameResult frame = tracer.render(camera, w, h);
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    LayoutRun run;
+    run.kind = image.layout;
+    add_image_stats(image, run.stats);
+    double seconds = 0.0;
+    FrameResult frame;
+    if (p.config.sim.tier == Tier::kFunctional) {
+      FunctionalBackend backend(image, p.config.caches, static_cast<uint32_t>(w * h));
+      frame = render_timed(p, backend, image.layout, seconds);
+      const FetchCache& c = backend.caches();
+      run.stats.set("traversal.node_fetches", c.stream(Stream::kNode).fetches);
+      run.stats.set("traversal.list_fetches", c.stream(Stream::kList).fetches);
+      run.stats.set("traversal.triangle_fetches", c.stream(Stream::kTriangle).fetches);
+      c.write_stats(run.stats);
+      run.pixel_dram_bytes = backend.pixel_dram_bytes();
+    } else {
+      CycleParams cycle = p.config.cycle;
+      if (p.config.sim.tier == Tier::kRtl) throw InputError(p.config.origin + ": sim.tier: \"rtl\" is not built yet");
+      CycleBackend backend(image, cycle);
+      frame = render_timed(p, backend, image.layout, seconds);
+      backend.write_stats(run.stats);
+    }
     if (!result.layouts.empty() &&
         (frame.rays_by_kind != result.frame.rays_by_kind ||
          std::memcmp(frame.radiance.data(), result.frame.radiance.data(),
                      frame.radiance.size() * sizeof(glm::vec3)) != 0))
       throw std::logic_error("layout " + image.layout + " changed the frame: a layout bug");
-
-    LayoutRun run;
-    run.kind = image.layout;
-    add_layout_stats(image, backend, frame, p.config.sim.frames_per_second, seconds, run.stats);
-    run.pixel_dram_bytes = backend.pixel_dram_bytes();
+    add_report_stats(frame, p.config.sim.frames_per_second, seconds, run.stats);
     if (result.layouts.empty()) result.frame = std::move(frame);
     result.layouts.push_back(std::move(run));
   }

@@ -10,6 +10,7 @@
 
 #include "cache/stream_caches.h"
 #include "kdtree/kd_tree.h"
+#include "model/cycle_params.h"
 #include "scene/scene.h"
 #include "tracer/tracer_params.h"
 
@@ -29,7 +30,11 @@ struct ImageParams {
 };
 
 // Which fidelity tier runs the traversal.
-enum class Tier { kFunctional };
+enum class Tier {
+  kFunctional,  // host traversal through the behavioural caches (no time)
+  kCycle,       // the SystemC traversal unit, L1 with MSHRs and DRAM timing
+  kRtl,         // the cycle tier with the Verilated RTL node L1
+};
 
 struct SimParams {
   Tier tier = Tier::kFunctional;
@@ -47,6 +52,7 @@ struct RunConfig {
   std::vector<std::string> layouts;  // layout.kind, one or more
   FetchCacheParams caches;           // l1.*, dcache.*
   SimParams sim;
+  CycleParams cycle;                 // sim.*, isect.*, l1.*, dcache.*, dram.* of the cycle tier
   toml::table effective;             // every key with the value used
 };
 

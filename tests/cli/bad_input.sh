@@ -39,6 +39,10 @@ expect_bad unknown_camera "scene.camera: no camera node 'nowhere'" "$rtusim" run
 expect_bad unknown_option 'unknown-flag|extras|not expected' "$rtusim" run "$src/configs/default.toml" --unknown-flag
 expect_bad hits_no_dir 'does not exist' "$rtusim" hits "$src/configs/default.toml" --out "$tmp/no/such/dir/h.bin"
 expect_bad no_subcommand 'subcommand' "$rtusim"
+expect_bad bad_tier "sim.tier: unknown value 'gpu'" "$rtusim" run "$src/configs/default.toml" --set sim.tier=gpu --out "$tmp/out"
+expect_bad rtl_l1_functional 'l1.model: "rtl" needs sim.tier' "$rtusim" run "$src/configs/default.toml" --set l1.model=rtl --out "$tmp/out"
+expect_bad bad_dram 'dram.channels: must be between' "$rtusim" run "$src/configs/default.toml" --set sim.tier=cycle --set dram.channels=0 --out "$tmp/out"
+expect_bad bad_l1_geometry 'l1.size' "$rtusim" run "$src/configs/default.toml" --set l1.size=8000 --out "$tmp/out"
 
 # An existing output directory keeps its files when a run fails.
 mkdir -p "$tmp/keep" && echo precious > "$tmp/keep/stats.json"

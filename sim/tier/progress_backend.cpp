@@ -1,0 +1,47 @@
+// Progress bar for long runs.
+#include "tier/progress_backend.h"
+
+#include <cstdio>
+
+#include <unistd.h>
+
+namespace rtusim {
+
+namespace {
+constexpr double kQuietSeconds = 2.0;   // runs shorter than this show nothing
+constexpr double kRedrawSeconds = 0.2;
+}  // namespace
+
+ProgressBackend::ProgressBackend(TraceBackend& inner, uint64_t primary_rays, std::string label)
+    : inner_(inner), total_(primary_rays), label_(std::move(label)), enabled_(isatty(2) != 0),
+      start_(std::chrono::steady_clock::now()), last_draw_(start_) {}
+
+ProgressBackend::~ProgressBackend() {
+  if (drawn_) draw(true);
+}
+
+void ProgressBackend::trace(std::span<const RayRecord> rays, std::span<Hit> hits) {
+  inner_.trace(rays, hits);
+  if (!enabled_) return;
+  for (const RayRecord& r : rays) done_ += r.kind == RayKind::kPrimary;
+  const auto now = std::chrono::steady_clock::now();
+  if (std::chrono::duration<double>(now - start_).count() < kQuietSeconds ||
+      std::chrono::duration<double>(now - last_draw_).count() < kRedrawSeconds)
+    return;
+  last_draw_ = now;
+  draw(false);
+}
+
+void ProgressBackend::draw(bool final) {
+  constexpr int kWidth = 30;
+  const double f = total_ ? double(done_) / double(total_) : 1.0;
+  const int filled = static_cast<int>(f * kWidth);
+  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  std::fprintf(stderr, "\r  %-8s [%.*s%*s] %3.0f%% %6.1f s", label_.c_str(), filled,
+               "##############################", kWidth - filled, "", 100.0 * f, secs);
+  if (final) std::fprintf(stderr, "\n");
+  std::fflush(stderr);
+  drawn_ = true;
+}
+
+}  // namespace rtusim
