@@ -263,13 +263,18 @@ void RtlL1Adapter::run() {
       const uint64_t start = now_ps();
       next_edge_ps_ = start + period_;
       drive_cycle(start);
-      wait(ps(period_ / 2));
-      clk_.write(false);
-      wait(ps(period_ - period_ / 2));
+      if (vcd_) {  // a clock that looks like one: falling mid-cycle
+        wait(ps(period_ / 2));
+        clk_.write(false);
+        wait(ps(period_ - period_ / 2));
+      } else {
+        wait(ps(period_));
+      }
       sample(next_edge_ps_);
       clk_.write(true);
       wait(sc_core::SC_ZERO_TIME);  // the RTL evaluates the edge
-      wait(sc_core::SC_ZERO_TIME);  // its outputs are visible
+      if (!vcd_) clk_.write(false);  // falls a delta later: one timed wait per cycle, not two
+      wait(sc_core::SC_ZERO_TIME);  // its post-edge outputs are visible
       if (quiescent()) break;
     }
   }

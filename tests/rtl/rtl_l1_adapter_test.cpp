@@ -195,7 +195,11 @@ TEST_F(RtlAdapterTest, VcdOfTheRtlSignals) {
                                                  ".vcd")).string();
   ConfigReader r = config("[sim]\nvcd = \"" + path + "\"\n[l1]\nmodel = \"rtl\"\n");
   const CycleParams p = read_cycle_params(r);
-  run(f, p, "rtl", p.vcd_path);
+  const RunResult traced = run(f, p, "rtl", p.vcd_path);
+  const RunResult plain = run(f, p, "rtl");  // the clock's shape is not observable
+  EXPECT_EQ(traced.cycles, plain.cycles);
+  EXPECT_EQ(u(traced, "l1.misses"), u(plain, "l1.misses"));
+  EXPECT_GT(u(traced, "l1.accesses"), 0u);
   std::ifstream in(path);
   ASSERT_TRUE(in) << path;
   std::stringstream text;
