@@ -11,7 +11,10 @@ namespace rtusim {
 
 namespace {
 constexpr uint32_t kMaxIds = 1u << RtlL1Fixed::kIdBits;
-}
+// The registry (what config validation checks) and the Verilated builds agree.
+static_assert(RtlL1Build::kMshrs == RtlL1Fixed::kMshrs);
+static_assert(RtlL1Build::kHitCycles == RtlL1Fixed::kHitLatencyCycles + 1);  // + acceptance edge
+}  // namespace
 
 RtlL1Adapter::RtlL1Adapter(const sc_core::sc_module_name& name, const L1Params& p,
                            const std::string& vcd_path)
