@@ -17,12 +17,13 @@ static_assert(RtlL1Build::kHitCycles == RtlL1Fixed::kHitLatencyCycles + 1);  // 
 }  // namespace
 
 RtlL1Adapter::RtlL1Adapter(const sc_core::sc_module_name& name, const L1Params& p,
-                           const std::string& vcd_path)
+                           const std::string& vcd_path, bool idle_while_awaiting_fills)
     : sc_module(name),
       target_socket("target_socket"),
       initiator_socket("initiator_socket"),
       p_(p),
-      period_(p.clock_period_ps) {
+      period_(p.clock_period_ps),
+      idle_while_awaiting_fills_(idle_while_awaiting_fills) {
   validate(p_, basename());
   rtl_l1_build(p_.cache);  // InputError for an unbuilt combination
   if (p_.mshrs != RtlL1Fixed::kMshrs || p_.hit_cycles != RtlL1Build::kHitCycles)
@@ -104,6 +105,7 @@ tlm::tlm_sync_enum RtlL1Adapter::nb_transport_fw(tlm::tlm_generic_payload& trans
   const Request r{align_up(now + delay.value()), id};
   by_id_[id] = &trans;
   t_by_id_[id] = r.t_ps;
+  ++outstanding_;
   if (cycle_open_ && !offering_ && queue_.empty() && r.t_ps <= now) {
     offer(r);  // joins the cycle being driven
   } else {
@@ -208,6 +210,7 @@ void RtlL1Adapter::sample(uint64_t edge_ps) {
     }
     by_id_[id] = nullptr;
     free_ids_.push_back(id);
+    --outstanding_;
     trans->set_response_status(tlm::TLM_OK_RESPONSE);
     tlm::tlm_phase phase = tlm::BEGIN_RESP;
     sc_core::sc_time delay = sc_core::SC_ZERO_TIME;
@@ -240,6 +243,7 @@ bool RtlL1Adapter::quiescent() const {
   if (offering_) return false;
   if (!queue_.empty() && queue_.front().t_ps <= next) return false;
   if (!fills_.empty() && fills_.front().drive_ps <= next) return false;
+  if (!idle_while_awaiting_fills_ && (outstanding_ > 0 || awaiting_fill_ > 0)) return false;
   return !sig_.o_resp_valid.read() && !sig_.o_mem_req_valid.read() &&
          sig_.o_mshrs_busy.read() == awaiting_fill_;
 }
@@ -296,12 +300,13 @@ void RtlL1Adapter::write_stats(Stats& stats, const std::string& prefix) const {
 // Registration with the core's node L1 seam (mem/node_l1.h). The anchor symbol is named in
 // rtusim_rtl_l1's link options (--undefined), so this object file, and with it the registrar,
 // is in every binary that links the library.
-namespace {
-std::unique_ptr<NodeL1> make_adapter(const char* name, const L1Params& p,
-                                     const std::string& vcd_path) {
+std::unique_ptr<NodeL1> make_rtl_adapter(const char* name, const L1Params& p,
+                                         const std::string& vcd_path) {
   return std::make_unique<RtlL1Adapter>(name, p, vcd_path);
 }
-const bool registered = (register_rtl_node_l1(&make_adapter), true);
+
+namespace {
+const bool registered = (register_rtl_node_l1(&make_rtl_adapter), true);
 }  // namespace
 
 }  // namespace rtusim

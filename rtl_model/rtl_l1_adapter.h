@@ -54,8 +54,10 @@ class RtlL1Adapter : public sc_core::sc_module, public NodeL1, public MemoryHori
   // `p`: geometry of a built combination (rtl/rtl_l1_registry.h, else InputError), mshrs 8,
   // hit_cycles 2 (CycleParams::finish checks). `vcd_path` non-empty: a VCD of clk and every
   // port signal (SystemC's tracer) written there.
+  // `idle_while_awaiting_fills` false: the clock also runs while only fills are awaited (it
+  // stops only when no request is outstanding); for the test that stopping it changes nothing.
   RtlL1Adapter(const sc_core::sc_module_name& name, const L1Params& p,
-               const std::string& vcd_path = "");
+               const std::string& vcd_path = "", bool idle_while_awaiting_fills = true);
   ~RtlL1Adapter() override;
 
   SC_HAS_PROCESS(RtlL1Adapter);
@@ -102,6 +104,8 @@ class RtlL1Adapter : public sc_core::sc_module, public NodeL1, public MemoryHori
 
   L1Params p_;
   uint64_t period_;
+  bool idle_while_awaiting_fills_;
+  uint32_t outstanding_ = 0;  // requests accepted from the unit and not yet answered
   sc_core::sc_signal<bool> clk_{"clk"};
   RtlL1Signals sig_;
   std::unique_ptr<sc_core::sc_module> rtl_;
@@ -127,5 +131,9 @@ class RtlL1Adapter : public sc_core::sc_module, public NodeL1, public MemoryHori
   uint64_t hits_ = 0, primary_ = 0, merged_ = 0, stall_cycles_ = 0, miss_latency_cycles_ = 0;
   uint64_t clocked_cycles_ = 0;
 };
+
+// The maker registered with the node L1 seam (mem/node_l1.h) when this library is linked.
+std::unique_ptr<NodeL1> make_rtl_adapter(const char* name, const L1Params& p,
+                                         const std::string& vcd_path);
 
 }  // namespace rtusim
