@@ -34,6 +34,7 @@
 #include "cache/cache_params.h"
 #include "cache/set_assoc_cache.h"
 #include "mem/mem_protocol.h"
+#include "mem/node_l1.h"
 
 namespace rtusim {
 
@@ -49,28 +50,30 @@ struct L1Params {
 // Throws InputError naming `prefix`.hit_cycles / .mshrs / the cache keys.
 void validate(const L1Params& p, const std::string& prefix);
 
-class L1Cache : public sc_core::sc_module {
+class L1Cache : public sc_core::sc_module, public NodeL1 {
  public:
   tlm_utils::simple_target_socket<L1Cache> target_socket;        // from the unit
   tlm_utils::simple_initiator_socket<L1Cache> initiator_socket;  // to DRAM
 
   L1Cache(const sc_core::sc_module_name& name, const L1Params& p);
 
-  uint64_t hits() const { return hits_; }
-  uint64_t primary_misses() const { return primary_; }
-  uint64_t merged_misses() const { return merged_; }
-  uint64_t accesses() const { return hits_ + primary_ + merged_; }
-  uint64_t mshr_stall_cycles() const { return stall_cycles_; }
-  double mean_miss_latency_cycles() const {
+  tlm::tlm_target_socket<>& upstream() override { return target_socket; }
+  tlm::tlm_initiator_socket<>& downstream() override { return initiator_socket; }
+
+  uint64_t hits() const override { return hits_; }
+  uint64_t primary_misses() const override { return primary_; }
+  uint64_t merged_misses() const override { return merged_; }
+  uint64_t mshr_stall_cycles() const override { return stall_cycles_; }
+  double mean_miss_latency_cycles() const override {
     return fills_ ? double(miss_latency_cycles_) / double(fills_) : 0.0;
   }
-  uint64_t bytes_from_dram() const { return primary_ * line_bytes_; }
+  uint64_t bytes_from_dram() const override { return primary_ * line_bytes_; }
   const SetAssocCache& tags() const { return tags_; }
   const L1Params& params() const { return p_; }
 
   // Writes `prefix`.{accesses,hits,misses,primary_misses,merged_misses,mshr_stall_cycles,
   // mean_miss_latency_cycles}.
-  void write_stats(Stats& stats, const std::string& prefix) const;
+  void write_stats(Stats& stats, const std::string& prefix) const override;
 
  private:
   static constexpr uint64_t kUnknown = ~uint64_t{0};

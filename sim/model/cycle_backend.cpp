@@ -6,6 +6,7 @@
 
 #include "mem/dram/dram.h"
 #include "mem/l1_cache.h"
+#include "mem/node_l1.h"
 #include "model/host_interface.h"
 #include "model/traversal_unit.h"
 #include "util/stats.h"
@@ -15,7 +16,7 @@ namespace rtusim {
 struct CycleBackend::Top : sc_core::sc_module {
   HostInterface host;
   Dram dram;
-  L1Cache node_l1;
+  std::unique_ptr<NodeL1> node_l1;  // l1.model: L1Cache or the RTL adapter
   std::unique_ptr<L1Cache> data_cache;
   TraversalUnit unit;
 
@@ -23,10 +24,10 @@ struct CycleBackend::Top : sc_core::sc_module {
       : sc_module(name),
         host("host"),
         dram("dram", p.dram),
-        node_l1("l1", p.node_l1),
+        node_l1(make_node_l1(p.node_l1_model, "l1", p.node_l1, p.vcd_path)),
         unit("unit", p.unit, image, host) {
-    unit.node_socket.bind(node_l1.target_socket);
-    node_l1.initiator_socket.bind(dram.target_socket);
+    unit.node_socket.bind(node_l1->upstream());
+    node_l1->downstream().bind(dram.target_socket);
     if (p.data_cache) {
       data_cache = std::make_unique<L1Cache>("dcache", *p.data_cache);
       unit.data_socket.bind(data_cache->target_socket);
@@ -35,6 +36,7 @@ struct CycleBackend::Top : sc_core::sc_module {
       unit.data_socket.bind(dram.target_socket);
     }
     unit.add_horizon(&dram);
+    if (const MemoryHorizon* h = node_l1->horizon()) unit.add_horizon(h);
   }
 };
 
@@ -79,7 +81,7 @@ void CycleBackend::trace(std::span<const RayRecord> rays, std::span<Hit> hits) {
 uint64_t CycleBackend::cycles() const {
   return context_->time_stamp().value() / params_.unit.clock_period_ps;
 }
-const L1Cache& CycleBackend::node_l1() const { return top_->node_l1; }
+const NodeL1& CycleBackend::node_l1() const { return *top_->node_l1; }
 const L1Cache* CycleBackend::data_cache() const { return top_->data_cache.get(); }
 const Dram& CycleBackend::dram() const { return top_->dram; }
 const TraversalUnit& CycleBackend::unit() const { return top_->unit; }
@@ -93,7 +95,7 @@ void CycleBackend::write_stats(Stats& stats) const {
   d.write_stats(stats, "dram");
   const uint64_t total = d.bytes(Stream::kNode) + d.bytes(Stream::kList) + d.bytes(Stream::kTriangle);
   stats.set("dram.gbytes_per_second", seconds > 0 ? double(total) / seconds / 1e9 : 0.0);
-  top_->node_l1.write_stats(stats, "l1");
+  top_->node_l1->write_stats(stats, "l1");
   if (top_->data_cache) top_->data_cache->write_stats(stats, "dcache");
   top_->unit.write_stats(stats);
   stats.set("unit.utilisation", c ? double(top_->unit.steps()) / double(c) : 0.0);

@@ -1,5 +1,5 @@
 // The cycle tier behind the tracer's TraceBackend seam: a SystemC top of host interface,
-// traversal unit, node L1, optional list/triangle cache and DRAM, simulated batch by batch.
+// traversal unit, node L1 (C++ or, with l1.model = rtl, the Verilated RTL), optional list/triangle cache and DRAM, simulated batch by batch.
 // Time and counters accumulate across batches.
 //
 // SystemC elaborates once per simulation context: each CycleBackend builds its top in a context
@@ -21,6 +21,7 @@ namespace rtusim {
 
 class Stats;
 class L1Cache;
+class NodeL1;
 class Dram;
 class TraversalUnit;
 
@@ -34,7 +35,7 @@ class CycleBackend final : public TraceBackend {
 
   uint64_t cycles() const;  // simulated so far
   uint64_t rays() const { return rays_; }
-  const L1Cache& node_l1() const;
+  const NodeL1& node_l1() const;  // L1Cache, or the RTL adapter with l1.model = rtl
   const L1Cache* data_cache() const;  // nullptr when lists and triangles go straight to DRAM
   const Dram& dram() const;
   const TraversalUnit& unit() const;

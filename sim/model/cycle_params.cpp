@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "cache/cache_config.h"
+#include "rtl/rtl_l1_registry.h"
 #include "util/error.h"
 
 namespace rtusim {
@@ -21,6 +22,23 @@ void CycleParams::finish() {
   }
   validate(unit);
   validate(node_l1, "l1");
+  if (node_l1_model == "rtl") {
+    rtl_l1_build(node_l1.cache);  // InputError naming an unbuilt combination
+    if (node_l1.mshrs != RtlL1Build::kMshrs)
+      throw InputError("l1.model = rtl: no RTL build for l1.mshrs=" +
+                       std::to_string(node_l1.mshrs) + " (every RTL build has " +
+                       std::to_string(RtlL1Build::kMshrs) + " MSHRs; built: " +
+                       rtl_l1_builds_text() + ", as size/assoc/line/policy)");
+    if (node_l1.hit_cycles != RtlL1Build::kHitCycles)
+      throw InputError("l1.hit_cycles: l1.model = rtl answers a hit " +
+                       std::to_string(RtlL1Build::kHitCycles) +
+                       " cycles after the request (acceptance edge + HIT_LATENCY 1); set " +
+                       std::to_string(RtlL1Build::kHitCycles) + " or use l1.model = cpp");
+  } else if (node_l1_model != "cpp") {
+    throw InputError("l1.model: must be cpp or rtl, not " + node_l1_model);
+  }
+  if (!vcd_path.empty() && node_l1_model != "rtl")
+    throw InputError("sim.vcd: traces the RTL L1's signals; needs l1.model = rtl");
   validate(dram, "dram");
 }
 
@@ -41,6 +59,8 @@ CycleParams read_cycle_params(ConfigReader& r) {
   p.node_l1.cache = caches.node_l1;
   p.node_l1.hit_cycles = u32("l1.hit_cycles", p.node_l1.hit_cycles, 1, 1 << 20);
   p.node_l1.mshrs = u32("l1.mshrs", p.node_l1.mshrs, 1, 4096);
+  p.node_l1_model = r.get_string("l1.model", p.node_l1_model, {"cpp", "rtl"});
+  p.vcd_path = r.get_string("sim.vcd", "");
   L1Params dcache;
   dcache.hit_cycles = u32("dcache.hit_cycles", dcache.hit_cycles, 1, 1 << 20);
   dcache.mshrs = u32("dcache.mshrs", dcache.mshrs, 1, 4096);

@@ -11,6 +11,10 @@
 //   isect.interval_cycles     1         initiation interval of a lane
 //   l1.hit_cycles             2         node L1 hit latency (geometry: l1.size/assoc/line/policy)
 //   l1.mshrs                  8         node L1 outstanding line misses
+//   l1.model                  "cpp"     node L1 model: cpp (mem/l1_cache.h) | rtl (the Verilated
+//                                       rtl_model/l1_cache.sv; only built size/assoc/line/policy
+//                                       combinations, l1.mshrs = 8, l1.hit_cycles = 2)
+//   sim.vcd                   ""        l1.model = rtl: write a VCD of the RTL L1's signals here
 //   dcache.enable             false     list/triangle cache (else straight to DRAM, per burst)
 //   dcache.hit_cycles         2         (geometry: dcache.size/assoc/line/policy)
 //   dcache.mshrs              8
@@ -25,6 +29,7 @@
 #pragma once
 #include <cstdint>
 #include <optional>
+#include <string>
 
 #include "config/config_reader.h"
 #include "mem/dram/dram_params.h"
@@ -39,6 +44,8 @@ struct CycleParams {
   L1Params node_l1;                  // clock_period_ps derived
   std::optional<L1Params> data_cache;  // nullopt: lists and triangles straight to DRAM
   DramParams dram;
+  std::string node_l1_model = "cpp";  // "cpp" | "rtl" (sim.tier = rtl sets "rtl")
+  std::string vcd_path;               // RTL L1 signals VCD; empty: none
 
   // Derives the clock period and the unit's request split from the rest; validates everything.
   void finish();

@@ -16,6 +16,10 @@
 namespace rtusim {
 
 struct RtlL1Build {
+  // Fixed in every build (l1_cache.sv defaults; rtl_model/rtl_l1_sc.h RtlL1Fixed).
+  static constexpr uint32_t kMshrs = 8;
+  static constexpr uint32_t kHitCycles = 2;  // request presented -> response (l1.hit_cycles)
+
   uint64_t size_bytes;
   uint32_t assoc;
   uint32_t line_bytes;

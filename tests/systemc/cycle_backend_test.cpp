@@ -15,6 +15,7 @@
 #include "model/cycle_backend.h"
 #include "model/cycle_params.h"
 #include "sc_fixture.h"
+#include "scene_fixture.h"
 #include "test_geometry.h"
 #include "tracer/host_backend.h"
 #include "traversal/traversal.h"
@@ -24,35 +25,7 @@
 namespace rtusim {
 namespace {
 
-struct SceneFixture {
-  Scene scene;
-  KdTree tree;
-  MemoryImage image;
-  std::vector<RayRecord> rays;
-
-  explicit SceneFixture(const std::string& layout) {
-    scene = testing::random_soup(7, 600);
-    testing::add_icosphere(scene, glm::vec3(0.2f, -0.3f, 0.1f), 0.4f, 2);
-    testing::finish(scene);
-    tree = build_sah_kd_tree(scene, KdBuildParams{});
-    image = make_layout(layout)->build_image(tree, scene);
-    // Rays from outside and inside the soup, closest-hit and shadow (any-hit), some missing.
-    std::mt19937 rng(11);
-    std::uniform_real_distribution<float> u(-1.5f, 1.5f);
-    for (int i = 0; i < 1500; ++i) {
-      RayRecord r;
-      r.ray.origin = i % 3 == 0 ? glm::vec3(u(rng), u(rng), u(rng)) * 0.5f
-                                : glm::vec3(u(rng), u(rng), -3.0f);
-      r.ray.dir = glm::vec3(u(rng), u(rng), u(rng) + (i % 3 == 0 ? 0.0f : 3.0f));
-      if (i % 4 == 3) {
-        r.kind = RayKind::kShadow;
-        r.ray.t_max = 0.8f;
-      }
-      r.pixel = static_cast<uint32_t>(i);
-      rays.push_back(r);
-    }
-  }
-};
+using testing::SceneFixture;
 
 void expect_same_hits(const std::vector<Hit>& a, const std::vector<Hit>& b) {
   ASSERT_EQ(a.size(), b.size());

@@ -1,0 +1,33 @@
+#include "mem/node_l1.h"
+
+#include <stdexcept>
+
+#include "mem/l1_cache.h"
+#include "util/error.h"
+
+namespace rtusim {
+
+namespace {
+RtlNodeL1Maker& rtl_maker() {
+  static RtlNodeL1Maker make = nullptr;
+  return make;
+}
+}  // namespace
+
+void register_rtl_node_l1(RtlNodeL1Maker make) { rtl_maker() = make; }
+
+bool rtl_node_l1_linked() { return rtl_maker() != nullptr; }
+
+std::unique_ptr<NodeL1> make_node_l1(const std::string& model, const char* name,
+                                     const L1Params& p, const std::string& vcd_path) {
+  if (model == "cpp") return std::make_unique<L1Cache>(name, p);
+  if (model == "rtl") {
+    if (!rtl_maker())
+      throw InputError("l1.model = rtl: this binary was built without the RTL L1 "
+                       "(-DRTUSIM_BUILD_RTL=OFF, or it does not link rtusim_rtl_l1)");
+    return rtl_maker()(name, p, vcd_path);
+  }
+  throw std::logic_error("make_node_l1: unknown model " + model);
+}
+
+}  // namespace rtusim
