@@ -5,8 +5,6 @@
 #include <cstring>
 #include <stdexcept>
 
-#include "util/error.h"
-
 #include "model/cycle_backend.h"
 #include "tier/functional_backend.h"
 #include "tier/progress_backend.h"
@@ -98,9 +96,7 @@ SimulationResult simulate(const Prepared& p) {
       c.write_stats(run.stats);
       run.pixel_dram_bytes = backend.pixel_dram_bytes();
     } else {
-      CycleParams cycle = p.config.cycle;
-      if (p.config.sim.tier == Tier::kRtl) throw InputError(p.config.origin + ": sim.tier: \"rtl\" is not built yet");
-      CycleBackend backend(image, cycle);
+      CycleBackend backend(image, p.config.cycle);  // the rtl tier: node_l1_model = "rtl"
       frame = render_timed(p, backend, image.layout, seconds);
       backend.write_stats(run.stats);
     }

@@ -88,20 +88,29 @@ RunConfig load_run_config(const std::string& path, const std::vector<std::string
 
   // [l1], [dcache]: the caches in front of DRAM
   c.caches = read_fetch_cache_params(r);
-  const std::string l1_model = r.get_string("l1.model", "cpp", {"cpp", "rtl"});
 
   // [sim], [report]: the tier; the cycle tier's own keys (read whatever the tier, so they are
-  // validated and in the effective config)
+  // validated and in the effective config), l1.model and sim.vcd among them
   c.sim.tier_name = r.get_string("sim.tier", "functional", {"functional", "cycle", "rtl"});
   c.sim.tier = c.sim.tier_name == "cycle" ? Tier::kCycle
                : c.sim.tier_name == "rtl" ? Tier::kRtl
                                           : Tier::kFunctional;
-  if (l1_model == "rtl" && c.sim.tier == Tier::kFunctional)
-    throw InputError(path + ": l1.model: \"rtl\" needs sim.tier = \"cycle\" or \"rtl\"");
-  if (c.sim.tier == Tier::kRtl && r.has("l1.model") && l1_model != "rtl")
-    throw InputError(path + ": l1.model: sim.tier = \"rtl\" uses the RTL L1, not \"" + l1_model + "\"");
   c.sim.frames_per_second = r.get_float("report.frames_per_second", 30.0, 1e-6, 1e6);
   c.cycle = read_cycle_params(r);
+  if (c.sim.tier == Tier::kRtl) {
+    // The rtl tier is the cycle tier with the Verilated node L1.
+    if (r.has("l1.model") && c.cycle.node_l1_model != "rtl")
+      throw InputError(path + ": l1.model: sim.tier = \"rtl\" uses the RTL L1, not \"" +
+                       c.cycle.node_l1_model + "\"");
+    c.cycle.node_l1_model = "rtl";
+    try {
+      c.cycle.finish();
+    } catch (const InputError& e) {
+      throw InputError(path + ": " + e.what());
+    }
+  }
+  if (c.cycle.node_l1_model == "rtl" && c.sim.tier == Tier::kFunctional)
+    throw InputError(path + ": l1.model: \"rtl\" needs sim.tier = \"cycle\" or \"rtl\"");
 
   r.reject_unknown_keys();
   c.effective = r.effective();
