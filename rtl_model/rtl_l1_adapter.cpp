@@ -287,16 +287,6 @@ void RtlL1Adapter::run() {
   }
 }
 
-void RtlL1Adapter::write_stats(Stats& stats, const std::string& prefix) const {
-  stats.set(prefix + ".accesses", accesses());
-  stats.set(prefix + ".hits", hits_);
-  stats.set(prefix + ".misses", primary_ + merged_);
-  stats.set(prefix + ".primary_misses", primary_);
-  stats.set(prefix + ".merged_misses", merged_);
-  stats.set(prefix + ".mshr_stall_cycles", stall_cycles_);
-  stats.set(prefix + ".mean_miss_latency_cycles", mean_miss_latency_cycles());
-}
-
 // Registration with the core's node L1 seam (mem/node_l1.h). The anchor symbol is named in
 // rtusim_rtl_l1's link options (--undefined), so this object file, and with it the registrar,
 // is in every binary that links the library.

@@ -72,7 +72,6 @@ class RtlL1Adapter : public sc_core::sc_module, public NodeL1, public MemoryHori
     return primary_ ? double(miss_latency_cycles_) / double(primary_) : 0.0;
   }
   uint64_t bytes_from_dram() const override { return primary_ * p_.cache.line_bytes; }
-  void write_stats(Stats& stats, const std::string& prefix) const override;
   const MemoryHorizon* horizon() const override { return this; }
   uint64_t horizon_ps() const override;
 

@@ -200,14 +200,4 @@ void L1Cache::respond(tlm::tlm_generic_payload& trans, uint64_t at_ps) {
   target_socket->nb_transport_bw(trans, phase, delay);
 }
 
-void L1Cache::write_stats(Stats& stats, const std::string& prefix) const {
-  stats.set(prefix + ".accesses", accesses());
-  stats.set(prefix + ".hits", hits_);
-  stats.set(prefix + ".misses", primary_ + merged_);
-  stats.set(prefix + ".primary_misses", primary_);
-  stats.set(prefix + ".merged_misses", merged_);
-  stats.set(prefix + ".mshr_stall_cycles", stall_cycles_);
-  stats.set(prefix + ".mean_miss_latency_cycles", mean_miss_latency_cycles());
-}
-
 }  // namespace rtusim

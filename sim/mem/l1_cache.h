@@ -73,7 +73,6 @@ class L1Cache : public sc_core::sc_module, public NodeL1 {
 
   // Writes `prefix`.{accesses,hits,misses,primary_misses,merged_misses,mshr_stall_cycles,
   // mean_miss_latency_cycles}.
-  void write_stats(Stats& stats, const std::string& prefix) const override;
 
  private:
   static constexpr uint64_t kUnknown = ~uint64_t{0};

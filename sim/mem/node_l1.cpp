@@ -4,8 +4,19 @@
 
 #include "mem/l1_cache.h"
 #include "util/error.h"
+#include "util/stats.h"
 
 namespace rtusim {
+
+void NodeL1::write_stats(Stats& stats, const std::string& prefix) const {
+  stats.set(prefix + ".accesses", accesses());
+  stats.set(prefix + ".hits", hits());
+  stats.set(prefix + ".misses", misses());
+  stats.set(prefix + ".primary_misses", primary_misses());
+  stats.set(prefix + ".merged_misses", merged_misses());
+  stats.set(prefix + ".mshr_stall_cycles", mshr_stall_cycles());
+  stats.set(prefix + ".mean_miss_latency_cycles", mean_miss_latency_cycles());
+}
 
 namespace {
 RtlNodeL1Maker& rtl_maker() {

@@ -36,8 +36,8 @@ class NodeL1 {
   virtual uint64_t bytes_from_dram() const = 0;
 
   // Writes `prefix`.{accesses,hits,misses,primary_misses,merged_misses,mshr_stall_cycles,
-  // mean_miss_latency_cycles}.
-  virtual void write_stats(Stats& stats, const std::string& prefix) const = 0;
+  // mean_miss_latency_cycles}, from the counters above: the same keys for every model.
+  void write_stats(Stats& stats, const std::string& prefix) const;
 
   // A model that acts on its own clock bounds the unit's run-ahead; nullptr when it answers
   // every request with annotated times only (the C++ L1).
