@@ -3,6 +3,7 @@
 
 #include <chrono>
 #include <cstring>
+#include <filesystem>
 #include <stdexcept>
 
 #include "model/cycle_backend.h"
@@ -96,9 +97,17 @@ SimulationResult simulate(const Prepared& p) {
       c.write_stats(run.stats);
       run.pixel_dram_bytes = backend.pixel_dram_bytes();
     } else {
-      CycleBackend backend(image, p.config.cycle);  // the rtl tier: node_l1_model = "rtl"
+      // The rtl tier: node_l1_model = "rtl". One VCD per layout when there are several.
+      CycleParams cycle = p.config.cycle;
+      if (!cycle.vcd_path.empty() && p.images.size() > 1) {
+        const std::filesystem::path vcd(cycle.vcd_path);
+        cycle.vcd_path = (vcd.parent_path() / (vcd.stem().string() + "_" + image.layout +
+                                                vcd.extension().string())).string();
+      }
+      CycleBackend backend(image, cycle);
       frame = render_timed(p, backend, image.layout, seconds);
       backend.write_stats(run.stats);
+      backend.finish();
     }
     if (!result.layouts.empty() &&
         (frame.rays_by_kind != result.frame.rays_by_kind ||

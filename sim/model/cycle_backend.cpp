@@ -10,6 +10,7 @@
 #include "model/host_interface.h"
 #include "model/traversal_unit.h"
 #include "util/stats.h"
+#include "util/vcd_writer.h"
 
 namespace rtusim {
 
@@ -57,11 +58,20 @@ sc_core::sc_simcontext* fresh_context() {
 CycleBackend::CycleBackend(const MemoryImage& image, const CycleParams& params)
     : params_(finished(params)),
       context_(fresh_context()),
-      top_(std::make_unique<Top>("rtu", image, params_)) {}
+      top_(std::make_unique<Top>("rtu", image, params_)) {
+  if (!params_.vcd_path.empty() && params_.node_l1_model == "cpp") {
+    vcd_ = std::make_unique<VcdWriter>(params_.vcd_path, "unit");
+    top_->unit.set_vcd(vcd_.get());
+  }
+}
 
 // The context is left alive: SystemC 2.3's kernel keeps process handles that may still refer
 // to it after its modules are gone, and it is a few kilobytes per backend.
 CycleBackend::~CycleBackend() { top_.reset(); }
+
+void CycleBackend::finish() {
+  if (vcd_) vcd_->commit();
+}
 
 void CycleBackend::make_current() const {
   sc_core::sc_curr_simcontext = context_;

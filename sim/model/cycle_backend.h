@@ -20,6 +20,7 @@ class sc_simcontext;
 namespace rtusim {
 
 class Stats;
+class VcdWriter;
 class L1Cache;
 class NodeL1;
 class Dram;
@@ -47,6 +48,9 @@ class CycleBackend final : public TraceBackend {
   // unit.* counters, traversal.node_fetches.
   void write_stats(Stats& stats) const;
 
+  // Completes the outputs of a run that went well (the unit's VCD, when sim.vcd asks for it).
+  void finish();
+
  private:
   struct Top;
   void make_current() const;  // this backend's context becomes SystemC's current one
@@ -54,6 +58,7 @@ class CycleBackend final : public TraceBackend {
   CycleParams params_;
   sc_core::sc_simcontext* context_;  // owned; declared before top_, destroyed after it
   std::unique_ptr<Top> top_;
+  std::unique_ptr<VcdWriter> vcd_;  // the unit's state, with the C++ node L1
   uint64_t rays_ = 0;
 };
 

@@ -37,8 +37,6 @@ void CycleParams::finish() {
   } else if (node_l1_model != "cpp") {
     throw InputError("l1.model: must be cpp or rtl, not " + node_l1_model);
   }
-  if (!vcd_path.empty() && node_l1_model != "rtl")
-    throw InputError("sim.vcd: traces the RTL L1's signals; needs l1.model = rtl");
   validate(dram, "dram");
 }
 

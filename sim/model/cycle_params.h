@@ -45,7 +45,8 @@ struct CycleParams {
   std::optional<L1Params> data_cache;  // nullopt: lists and triangles straight to DRAM
   DramParams dram;
   std::string node_l1_model = "cpp";  // "cpp" | "rtl" (sim.tier = rtl sets "rtl")
-  std::string vcd_path;               // RTL L1 signals VCD; empty: none
+  std::string vcd_path;  // sim.vcd: with the C++ L1 the unit's state, with the RTL L1 its
+                         // signals; empty: none
 
   // Derives the clock period and the unit's request split from the rest; validates everything.
   void finish();

@@ -7,6 +7,7 @@
 #include "layout/layout_dispatch.h"
 #include "util/error.h"
 #include "util/stats.h"
+#include "util/vcd_writer.h"
 
 namespace rtusim {
 
@@ -76,6 +77,7 @@ void TraversalUnit::run_batch() {
   const uint64_t t0 = cycle_at_or_after(now_ps());
   last_cycle_ = t0;
   for (uint32_t i = 0; i < slots_.size(); ++i) start_ray(i, t0);
+  if (vcd_) trace(t0);
   while (active_ > 0) {
     const uint64_t h = horizon();
     if (events_.empty() || events_.top_cycle() * period_ >= h) {
@@ -92,10 +94,28 @@ void TraversalUnit::run_batch() {
     last_cycle_ = std::max(last_cycle_, t);
     ++events_processed_;
     process<Decoder>(slots_[slot], slot, t);
+    if (vcd_) trace(t);
   }
   // The kernel catches up with the unit: the batch ends at its last event.
   const uint64_t end_ps = last_cycle_ * period_, now = now_ps();
   if (end_ps > now) wait(ps(end_ps - now));
+}
+
+void TraversalUnit::set_vcd(VcdWriter* vcd) {
+  vcd_ = vcd;
+  if (!vcd_) return;
+  vcd_active_ = vcd_->add("rays_active", 32);
+  vcd_steps_ = vcd_->add("steps", 64);
+  vcd_leaf_steps_ = vcd_->add("leaf_steps", 64);
+  vcd_isect_ = vcd_->add("isect_tests", 64);
+}
+
+void TraversalUnit::trace(uint64_t cycle) {
+  const uint64_t at_ps = cycle * period_;
+  vcd_->sample(at_ps, vcd_active_, active_);
+  vcd_->sample(at_ps, vcd_steps_, steps_);
+  vcd_->sample(at_ps, vcd_leaf_steps_, leaf_steps_);
+  vcd_->sample(at_ps, vcd_isect_, isect_tests_);
 }
 
 void TraversalUnit::start_ray(uint32_t slot, uint64_t t) {

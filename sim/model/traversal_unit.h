@@ -33,6 +33,8 @@
 
 namespace rtusim {
 
+class VcdWriter;
+
 class Stats;
 
 struct UnitParams {
@@ -65,6 +67,10 @@ class TraversalUnit : public sc_core::sc_module {
 
   uint64_t steps() const { return steps_; }
   void write_stats(Stats& stats) const;  // unit.*
+
+  // Dumps the unit's state (rays active, steps, leaf steps, intersection tests) to `vcd` at the
+  // unit's own cycle times; nullptr: none.
+  void set_vcd(VcdWriter* vcd);
 
  private:
   // What a ray does at its next event (kStep, kLeafBody, kTriangles, kIsect) or which data it
@@ -115,6 +121,7 @@ class TraversalUnit : public sc_core::sc_module {
   void arrived(tlm::tlm_generic_payload& trans, uint64_t at_ps);
   uint64_t horizon() const;
   uint64_t cycle_at_or_after(uint64_t t_ps) const { return (t_ps + period_ - 1) / period_; }
+  void trace(uint64_t cycle);  // samples the VCD variables, if any
 
   UnitParams p_;
   uint64_t period_;
@@ -141,6 +148,9 @@ class TraversalUnit : public sc_core::sc_module {
   uint64_t stack_overflows_ = 0;
   uint64_t events_processed_ = 0, kernel_waits_ = 0;
   int max_stack_ = 0;
+
+  VcdWriter* vcd_ = nullptr;
+  uint32_t vcd_active_ = 0, vcd_steps_ = 0, vcd_leaf_steps_ = 0, vcd_isect_ = 0;
 };
 
 }  // namespace rtusim

@@ -29,4 +29,19 @@ for kind in ["dfl", "odfl"]:
     assert c32[p + "sim.cycles"] * 2 < c1[p + "sim.cycles"], (c1[p + "sim.cycles"], c32[p + "sim.cycles"])
 assert "sim.cycles" not in f and c1["sim.cycles"] > 0
 PY
+# sim.vcd: the unit's state over its own cycle times, one file per layout.
+"$rtusim" run "$src/configs/default.toml" "${common[@]}" --set sim.tier=cycle --set sim.vcd="$tmp/unit.vcd" --out "$tmp/v" > /dev/null
+python3 - "$tmp/unit_dfl.vcd" "$tmp/unit_odfl.vcd" "$tmp/c32/stats.json" <<'PY'
+import json, sys
+stats = json.load(open(sys.argv[3]))
+for path in sys.argv[1:3]:
+    text = open(path).read()
+    assert "$var wire 32 ! rays_active $end" in text and "$enddefinitions $end" in text
+    times = [int(l[1:]) for l in text.splitlines() if l.startswith("#")]
+    assert len(times) > 10 and times == sorted(times), "times increase"
+    # The last value of `steps` is the run's step count (32 rays in flight is the default).
+    last_steps = [l for l in text.splitlines() if l.endswith(' "')][-1]
+    kind = "dfl" if "dfl" in path else "odfl"
+    assert int(last_steps[1:].split()[0], 2) == stats[f"layout.{kind}.traversal.node_fetches"]
+PY
 echo "tier_consistency: 1 passed, 0 failed"
