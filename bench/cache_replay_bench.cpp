@@ -11,10 +11,13 @@
 #include "cache/policy/random_policy.h"
 #include "cache/replacement_policy.h"
 #include "cache/set_assoc_cache.h"
+#include "bench_timing.h"
 
 using namespace rtusim;
 
 namespace {
+
+using rtusim::bench_timing::median_seconds;
 
 constexpr size_t kRefs = 20'000'000;
 constexpr int kReps = 5;
@@ -35,17 +38,6 @@ std::vector<uint64_t> make_trace() {
   return t;
 }
 
-template <class F>
-double median_seconds(F&& run) {
-  std::vector<double> s;
-  for (int i = 0; i < kReps; ++i) {
-    const auto t0 = std::chrono::steady_clock::now();
-    run();
-    s.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-  }
-  std::sort(s.begin(), s.end());
-  return s[kReps / 2];
-}
 
 volatile uint64_t g_sink;  // keeps results alive
 
@@ -57,7 +49,7 @@ int main() {
   std::printf("cache_replay_bench: %zu node references, 4 MB region, 8 KB / 4-way / 64 B, median of %d\n",
               trace.size(), kReps);
 
-  const double raw_s = median_seconds([&] {
+  const double raw_s = median_seconds(kReps, [&] {
     uint64_t sum = 0;
     for (const uint64_t a : trace) sum += a;
     g_sink = sum;
@@ -73,19 +65,19 @@ int main() {
     p.policy = policy;
     uint64_t loop_misses = 0, access_misses = 0, virtual_misses = 0;
     // Policy chosen at run time, dispatched once per replay loop.
-    const double loop_s = median_seconds([&] {
+    const double loop_s = median_seconds(kReps, [&] {
       SetAssocCache c(p);
       loop_misses = c.replay(trace);
     });
     // Dispatched per access (what a fetch sink does).
-    const double access_s = median_seconds([&] {
+    const double access_s = median_seconds(kReps, [&] {
       SetAssocCache c(p);
       uint64_t m = 0;
       for (const uint64_t a : trace) m += c.access(a) ? 0 : 1;
       access_misses = m;
     });
     // The policy called through the virtual ReplacementPolicy seam.
-    const double virtual_s = median_seconds([&] {
+    const double virtual_s = median_seconds(kReps, [&] {
       SetAssocCache c = SetAssocCache::through_virtual_policy(p);
       virtual_misses = c.replay(trace);
     });

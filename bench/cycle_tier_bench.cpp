@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_timing.h"
 #include "config/run_config.h"
 #include "kdtree/sah_builder.h"
 #include "layout/layout.h"
@@ -29,13 +30,9 @@ using namespace rtusim;
 
 namespace {
 
-double now_s() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
+using rtusim::bench_timing::median;
+using rtusim::bench_timing::now_s;
+
 
 struct CycleRun {
   double seconds = 0;

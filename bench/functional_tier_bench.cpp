@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_timing.h"
 #include "app/pipeline.h"
 #include "cache/stream_caches.h"
 #include "layout/layout_dispatch.h"
@@ -17,6 +18,8 @@
 using namespace rtusim;
 
 namespace {
+
+using rtusim::bench_timing::median;
 
 // Records every ray the tracer issues, in order, while the host backend traces it.
 class RecordingBackend final : public TraceBackend {
@@ -32,10 +35,6 @@ class RecordingBackend final : public TraceBackend {
   HostBackend host_;
 };
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
 
 }  // namespace
 

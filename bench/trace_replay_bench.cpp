@@ -21,25 +21,17 @@
 #include "trace/node_stream_backend.h"
 #include "trace/trace_format.h"
 #include "util/error.h"
+#include "bench_timing.h"
 
 using namespace rtusim;
 namespace fs = std::filesystem;
 
 namespace {
 
+using rtusim::bench_timing::median_seconds;
+
 constexpr int kReps = 5;
 
-template <class F>
-double median_seconds(F&& run) {
-  std::vector<double> s;
-  for (int i = 0; i < kReps; ++i) {
-    const auto t0 = std::chrono::steady_clock::now();
-    run();
-    s.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-  }
-  std::sort(s.begin(), s.end());
-  return s[kReps / 2];
-}
 
 // The default config's bin trace, written to `dir`.
 fs::path make_trace(const fs::path& dir) {
@@ -78,7 +70,7 @@ int main(int argc, char** argv) {
     const TraceReader reader(path);
     const TraceHeader& h = reader.header();
     std::vector<uint64_t> addrs;
-    const double decode_s = median_seconds([&] { addrs = reader.decode(); });
+    const double decode_s = median_seconds(kReps, [&] { addrs = reader.decode(); });
     const double n = static_cast<double>(addrs.size());
     std::printf("  trace     %s: %zu references, %s, layout %s, %.2f bytes/reference\n",
                 path.string().c_str(), addrs.size(), h.format == TraceFormat::kBin ? "bin" : "din",
@@ -86,11 +78,11 @@ int main(int argc, char** argv) {
 
     CacheParams params;  // 8 KB, 4-way, 64 B, lru
     uint64_t misses = 0;
-    const double replay_s = median_seconds([&] {
+    const double replay_s = median_seconds(kReps, [&] {
       SetAssocCache c(params);
       misses = c.replay(addrs);
     });
-    const double both_s = median_seconds([&] {
+    const double both_s = median_seconds(kReps, [&] {
       SetAssocCache c(params);
       g_sink = c.replay(reader.decode());
     });

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_timing.h"
 #include "config/run_config.h"
 #include "embree_scene.h"
 #include "kdtree/sah_builder.h"
@@ -22,13 +23,9 @@ using namespace rtusim;
 
 namespace {
 
-double now_s() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
+using rtusim::bench_timing::median;
+using rtusim::bench_timing::now_s;
+
 double max_rss_mb() {
   rusage u{};
   getrusage(RUSAGE_SELF, &u);
