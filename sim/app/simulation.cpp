@@ -97,7 +97,8 @@ SimulationResult simulate(const Prepared& p) {
       c.write_stats(run.stats);
       run.pixel_dram_bytes = backend.pixel_dram_bytes();
     } else {
-      // The rtl tier: node_l1_model = "rtl". One VCD per layout when there are several.
+      // The cycle tier, and the rtl tier (the config set node_l1_model = "rtl"). One VCD per
+      // layout when there are several.
       CycleParams cycle = p.config.cycle;
       if (!cycle.vcd_path.empty() && p.images.size() > 1) {
         const std::filesystem::path vcd(cycle.vcd_path);
