@@ -2,13 +2,13 @@
 // address mapping, and the same through the TLM module.
 #include <gtest/gtest.h>
 
-#include <tlm_utils/simple_initiator_socket.h>
 
 #include <vector>
 
 #include "mem/dram/dram.h"
 #include "mem/dram/fr_fcfs_dram.h"
 #include "sc_fixture.h"
+#include "tlm_test_modules.h"
 #include "util/error.h"
 #include "util/stats.h"
 
@@ -135,45 +135,14 @@ TEST(DramTest, ValidationNamesTheKey) {
   }
 }
 
-// A test initiator: sends reads at given times through TLM and records the response times.
-struct Requester : sc_core::sc_module {
-  tlm_utils::simple_initiator_socket<Requester> socket;
-  struct Req {
-    uint64_t at_ps, addr;
-  };
-  std::vector<Req> reqs;
-  std::vector<tlm::tlm_generic_payload> payloads;
-  std::vector<uint64_t> done_ps;
-  SC_HAS_PROCESS(Requester);
-  Requester(const sc_core::sc_module_name& n, std::vector<Req> r)
-      : sc_module(n), socket("socket"), reqs(std::move(r)), payloads(reqs.size()),
-        done_ps(reqs.size(), 0) {
-    socket.register_nb_transport_bw(this, &Requester::bw);
-    SC_THREAD(run);
-  }
-  void run() {
-    for (size_t i = 0; i < reqs.size(); ++i) {
-      if (reqs[i].at_ps > now_ps()) wait(ps(reqs[i].at_ps - now_ps()));
-      init_read(payloads[i], reqs[i].addr, 64);
-      tlm::tlm_phase ph = tlm::BEGIN_REQ;
-      sc_core::sc_time d = sc_core::SC_ZERO_TIME;
-      EXPECT_EQ(socket->nb_transport_fw(payloads[i], ph, d), tlm::TLM_UPDATED);
-      EXPECT_EQ(ph, tlm::END_REQ);
-    }
-  }
-  tlm::tlm_sync_enum bw(tlm::tlm_generic_payload& t, tlm::tlm_phase& ph, sc_core::sc_time& d) {
-    EXPECT_EQ(ph, tlm::BEGIN_RESP);
-    done_ps[&t - payloads.data()] = now_ps() + d.value();
-    return tlm::TLM_COMPLETED;
-  }
-};
-
 class DramModuleTest : public testing::SystemCTest {};
 
 TEST_F(DramModuleTest, FrFcfsThroughTlm) {
   const DramParams p = small_dram();
   const uint64_t rcd = p.tRCD_ps(), rp = p.tRP_ps(), cl = p.tCL_ps(), burst = p.burst_ps();
-  Requester req("req", {{0, kRow0Bank0}, {1000, kRow1Bank0}, {2000, kRow0Bank0 + 128}});
+  testing::Requester req("req", {{0, kRow0Bank0, 64}, {1000, kRow1Bank0, 64},
+                                 {2000, kRow0Bank0 + 128, 64}});
+  req.expect_accepted = true;
   Dram dram("dram", p);
   req.socket.bind(dram.target_socket);
   sc_core::sc_start();

@@ -23,6 +23,9 @@ struct Requester : sc_core::sc_module {
   std::vector<Req> reqs;
   std::vector<tlm::tlm_generic_payload> payloads;
   std::vector<uint64_t> done_ps;  // 0 = no answer yet
+  // A target that answers later (the DRAM): every request must be accepted (TLM_UPDATED,
+  // END_REQ), never completed at once.
+  bool expect_accepted = false;
 
   SC_HAS_PROCESS(Requester);
   Requester(const sc_core::sc_module_name& n, std::vector<Req> r)
@@ -37,7 +40,12 @@ struct Requester : sc_core::sc_module {
       init_read(payloads[i], reqs[i].addr, reqs[i].bytes);
       tlm::tlm_phase ph = tlm::BEGIN_REQ;
       sc_core::sc_time d = sc_core::SC_ZERO_TIME;
-      if (socket->nb_transport_fw(payloads[i], ph, d) == tlm::TLM_COMPLETED) {
+      const tlm::tlm_sync_enum status = socket->nb_transport_fw(payloads[i], ph, d);
+      if (expect_accepted) {
+        EXPECT_EQ(status, tlm::TLM_UPDATED);
+        EXPECT_EQ(ph, tlm::END_REQ);
+      }
+      if (status == tlm::TLM_COMPLETED) {
         EXPECT_EQ(payloads[i].get_response_status(), tlm::TLM_OK_RESPONSE);
         done_ps[i] = now_ps() + d.value();
       }
