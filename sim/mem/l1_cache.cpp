@@ -229,6 +229,11 @@ void L1Cache::fill(Mshr& m, uint64_t done_ps) {
         taken = true;
       }
   }
+  // The decidability rule (l1_cache.h) guarantees lookups never run ahead of a fill.
+  if (c <= next_lookup_ - 1 && next_lookup_ > 0)
+    throw std::logic_error(std::string(name()) + ": a fill at cycle " + std::to_string(c) +
+                           " became known after the lookup at cycle " +
+                           std::to_string(next_lookup_ - 1) + " (the downstream decided late)");
   m.fill_cycle = c;
   ++fills_;
   miss_latency_cycles_ += c - m.request_cycle;
