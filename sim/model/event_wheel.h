@@ -3,6 +3,8 @@
 // lists threaded through the slots, a bitmap of non-empty buckets), plus a heap for the rare
 // event further ahead. Push and pop are O(1) when events are dense in time, as they are when the
 // unit is busy; a binary heap costs a mispredicted branch per level.
+// Events of one cycle come out in push order, or with `slot_order` in slot order (the bucket's
+// list is kept sorted: short, one entry per slot due that cycle).
 #pragma once
 #include <algorithm>
 #include <bit>
@@ -18,8 +20,9 @@ class EventWheel {
   static constexpr uint64_t kWheelCycles = 4096;
   static constexpr uint32_t kNone = ~uint32_t{0};
 
-  explicit EventWheel(uint32_t slots)
-      : link_(slots, kNone), head_(kWheelCycles, kNone), tail_(kWheelCycles, kNone),
+  explicit EventWheel(uint32_t slots, bool slot_order = false)
+      : slot_order_(slot_order),
+        link_(slots, kNone), head_(kWheelCycles, kNone), tail_(kWheelCycles, kNone),
         nonempty_(kWheelCycles / 64, 0) {}
 
   bool empty() const { return count_ == 0; }
@@ -37,10 +40,19 @@ class EventWheel {
     if (head_[b] == kNone) {
       head_[b] = slot;
       nonempty_[b / 64] |= uint64_t{1} << (b % 64);
-    } else {
+      tail_[b] = slot;
+    } else if (!slot_order_ || tail_[b] < slot) {
       link_[tail_[b]] = slot;
+      tail_[b] = slot;
+    } else if (slot < head_[b]) {
+      link_[slot] = head_[b];
+      head_[b] = slot;
+    } else {  // between two entries
+      uint32_t prev = head_[b];
+      while (link_[prev] < slot) prev = link_[prev];
+      link_[slot] = link_[prev];
+      link_[prev] = slot;
     }
-    tail_[b] = slot;
   }
 
   // Cycle of the next event (the queue must not be empty).
@@ -87,6 +99,7 @@ class EventWheel {
     return ~uint64_t{0};
   }
 
+  bool slot_order_;
   std::vector<uint32_t> link_;  // per slot: the next slot in its bucket
   std::vector<uint32_t> head_, tail_;
   std::vector<uint64_t> nonempty_;

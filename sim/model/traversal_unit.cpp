@@ -22,7 +22,7 @@ void validate(const UnitParams& p) {
   at_least_1(p.isect_interval_cycles, "isect.interval_cycles");
   at_least_1(p.node_line_bytes, "l1.line");
   at_least_1(p.data_line_bytes, "dcache.line");
-  if (p.rays_in_flight > (1u << 20))
+  if (p.rays_in_flight > (1u << TraversalUnit::kSlotBits))
     throw InputError("sim.rays_in_flight: " + std::to_string(p.rays_in_flight) +
                      " is more than 1048576");
   if (p.stack_depth > TraversalState::kStackDepth)
@@ -48,6 +48,7 @@ TraversalUnit::TraversalUnit(const sc_core::sc_module_name& name, const UnitPara
       host_(host),
       slots_(p.rays_in_flight),
       events_(p.rays_in_flight),
+      arrivals_(p.rays_in_flight, /*slot_order=*/true),
       step_calendar_(kCalendarCycles / 64, 0),
       lane_free_(p.isect_lanes, 0) {
   node_socket.register_nb_transport_bw(this, &TraversalUnit::nb_transport_bw);
@@ -80,7 +81,18 @@ void TraversalUnit::run_batch() {
   if (vcd_) trace(t0);
   while (active_ > 0) {
     const uint64_t h = horizon();
-    if (events_.empty() || events_.top_cycle() * period_ >= h) {
+    // Arrivals before the events of their cycle; both only before the horizon. Taking an
+    // arrival touches no memory component, so the horizon holds until an event is processed.
+    uint64_t next_event = events_.empty() ? ~uint64_t{0} : events_.top_cycle();
+    while (!arrivals_.empty()) {
+      uint64_t cycle = arrivals_.top_cycle();
+      if (cycle > next_event || cycle * period_ >= h) break;
+      const uint32_t slot = arrivals_.pop(cycle);
+      last_cycle_ = std::max(last_cycle_, cycle);
+      data_ready(slot, cycle);
+      next_event = events_.empty() ? ~uint64_t{0} : events_.top_cycle();
+    }
+    if (next_event == ~uint64_t{0} || next_event * period_ >= h) {
       // Nothing to do before the memory acts on its own: let the kernel get there.
       if (h == MemoryHorizon::kNever)
         throw std::logic_error("traversal unit: rays wait for memory that has nothing scheduled");
@@ -309,7 +321,7 @@ void TraversalUnit::issue(uint32_t slot, size_t first, size_t last, uint64_t t) 
     }
   }
   s.issuing = false;
-  if (s.pending == 0) data_ready(slot, s.ready);
+  if (s.pending == 0) arrivals_.push(s.ready, slot);
 }
 
 tlm::tlm_sync_enum TraversalUnit::nb_transport_bw(tlm::tlm_generic_payload& trans,
@@ -327,7 +339,7 @@ void TraversalUnit::arrived(tlm::tlm_generic_payload& trans, uint64_t at_ps) {
   free_payloads_.push_back(&trans);
   Slot& s = slots_[slot];
   s.ready = std::max(s.ready, cycle_at_or_after(at_ps));
-  if (--s.pending == 0 && !s.issuing) data_ready(slot, s.ready);
+  if (--s.pending == 0 && !s.issuing) arrivals_.push(s.ready, slot);
 }
 
 void TraversalUnit::write_stats(Stats& stats) const {

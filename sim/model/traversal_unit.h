@@ -13,8 +13,11 @@
 // Simulation: one SC_THREAD runs an event queue of (time, ray) in time order, temporally
 // decoupled: it processes events without yielding until the next one is at or after the memory
 // horizon (the DRAM's next scheduling decision), then waits for the kernel to reach it. Memory
-// responses arrive as annotated BEGIN_RESP calls and become events. So the kernel switches
-// context about once per DRAM decision, not once per node.
+// responses arrive as annotated BEGIN_RESP calls; a ray whose data is all there is queued by
+// (data cycle, slot) and taken in that order, before the events of the same cycle, so steps are
+// booked in time order whatever order the memory side happened to announce them in (the C++ and
+// the RTL L1 announce at different moments and must give identical runs). So the kernel
+// switches context about once per DRAM decision, not once per node.
 #pragma once
 #include <cstdint>
 #include <deque>
@@ -54,6 +57,8 @@ void validate(const UnitParams& p);
 
 class TraversalUnit : public sc_core::sc_module {
  public:
+  static constexpr uint32_t kSlotBits = 20;  // a slot index: sim.rays_in_flight <= 2^20
+
   tlm_utils::simple_initiator_socket<TraversalUnit> node_socket;  // to the node L1
   tlm_utils::simple_initiator_socket<TraversalUnit> data_socket;  // lists + triangles
 
@@ -130,6 +135,7 @@ class TraversalUnit : public sc_core::sc_module {
   std::vector<const MemoryHorizon*> horizons_;
   std::vector<Slot> slots_;
   EventWheel events_;
+  EventWheel arrivals_;  // rays whose data is all there, by data cycle, then slot
   uint32_t active_ = 0;
   // The step pipeline takes one step per cycle. Bookings as a bit per cycle over a window of
   // kCalendarCycles from the current cycle (far more than any memory latency); bits behind the

@@ -90,6 +90,24 @@ TEST(DramTest, FrFcfsServesAYoungerRowHitFirst) {
   EXPECT_EQ(d.next_decision_ps(), DramBackend::kNever);
 }
 
+TEST(DramTest, EqualArrivalsGoByAddressNotByEnqueueOrder) {
+  // Two row hits to the same open row arriving at the same time, enqueued in either order:
+  // the lower address is served first, so the order initiators call in does not matter.
+  for (const bool lower_first : {true, false}) {
+    FrFcfsDram d(small_dram());
+    std::vector<DramCompletion> out;
+    d.enqueue({1, kRow0Bank0, 64, 0, Stream::kNode});  // opens row 0 of bank 0
+    d.advance(0, out);
+    const uint64_t lo = kRow0Bank0 + 128, hi = kRow0Bank0 + 256;
+    d.enqueue({lower_first ? 2u : 3u, lower_first ? lo : hi, 64, 1000, Stream::kNode});
+    d.enqueue({lower_first ? 3u : 2u, lower_first ? hi : lo, 64, 1000, Stream::kNode});
+    while (out.size() < 3) d.advance(d.next_decision_ps(), out);
+    EXPECT_EQ(out[1].id, 2u) << "lower_first " << lower_first;  // id 2 is the lower address
+    EXPECT_EQ(out[2].id, 3u);
+    EXPECT_LT(out[1].done_ps, out[2].done_ps);
+  }
+}
+
 TEST(DramTest, BanksOverlapAndShareTheBus) {
   const DramParams p = small_dram();
   const uint64_t rcd = p.tRCD_ps(), cl = p.tCL_ps(), burst = p.burst_ps();

@@ -40,7 +40,9 @@ void FrFcfsDram::advance(uint64_t now_ps, std::vector<DramCompletion>& out) {
   if (next_decision_ps_ > now_ps) return;
   for (Channel& c : channels_) {
     for (;;) {
-      // FR-FCFS over the requests that can start now: row hits first, then age.
+      // FR-FCFS over the requests that can start now: row hits first, then age. Equal arrival
+      // times go by address, so the order in which initiators happened to enqueue them (an
+      // artefact of the simulation, not of the hardware) does not matter.
       int best = -1;
       bool best_hit = false;
       for (size_t i = 0; i < c.queue.size(); ++i) {
@@ -50,7 +52,9 @@ void FrFcfsDram::advance(uint64_t now_ps, std::vector<DramCompletion>& out) {
         if (best < 0 || (hit && !best_hit) ||
             (hit == best_hit && (q.req.arrival_ps < c.queue[best].req.arrival_ps ||
                                  (q.req.arrival_ps == c.queue[best].req.arrival_ps &&
-                                  q.seq < c.queue[best].seq)))) {
+                                  (q.req.addr < c.queue[best].req.addr ||
+                                   (q.req.addr == c.queue[best].req.addr &&
+                                    q.seq < c.queue[best].seq)))))) {
           best = static_cast<int>(i);
           best_hit = hit;
         }

@@ -46,14 +46,14 @@ class FrFcfsDram final : public DramBackend {
   struct Queued {
     DramRequest req;
     Location loc;
-    uint64_t seq;  // arrival order, for FCFS ties
+    uint64_t seq;  // enqueue order: the last tie-break (after arrival time, then address)
   };
   struct Bank {
     uint64_t open_row = kNoRow;
     uint64_t ready_ps = 0;
   };
   struct Channel {
-    std::vector<Queued> queue;  // unordered; picked by (row hit, arrival, seq)
+    std::vector<Queued> queue;  // unordered; picked by (row hit, arrival, address, seq)
     std::vector<Bank> banks;
     uint64_t bus_free_ps = 0;
   };
