@@ -5,7 +5,6 @@
 #include <stdexcept>
 
 #include "util/error.h"
-#include "util/stats.h"
 
 namespace rtusim {
 
@@ -31,11 +30,21 @@ L1Cache::L1Cache(const sc_core::sc_module_name& name, const L1Params& p)
       tags_(p.cache),
       offset_bits_(static_cast<uint32_t>(std::countr_zero(p.cache.line_bytes))),
       line_bytes_(p.cache.line_bytes),
-      hit_ps_(uint64_t{p.hit_cycles} * p.clock_period_ps),
-      hit_time_(ps(hit_ps_)) {
+      period_ps_(p.clock_period_ps),
+      mshrs_(p.mshrs) {
+  for (size_t i = 0; i < mshrs_.size(); ++i) {
+    mshrs_[i].tag = new FetchTag;
+    mshrs_[i].tag->owner = static_cast<uint32_t>(i);
+    mshrs_[i].payload.set_extension(mshrs_[i].tag);
+  }
   target_socket.register_nb_transport_fw(this, &L1Cache::nb_transport_fw);
   initiator_socket.register_nb_transport_bw(this, &L1Cache::nb_transport_bw);
+  SC_METHOD(wake);
+  sensitive << wake_;
+  dont_initialize();
 }
+
+// ---- Upstream: requests in, answers out -----------------------------------------------------
 
 tlm::tlm_sync_enum L1Cache::nb_transport_fw(tlm::tlm_generic_payload& trans,
                                             tlm::tlm_phase& phase, sc_core::sc_time& delay) {
@@ -48,156 +57,186 @@ tlm::tlm_sync_enum L1Cache::nb_transport_fw(tlm::tlm_generic_payload& trans,
     return tlm::TLM_COMPLETED;
   }
   const uint64_t now = now_ps();
-  const uint64_t t = now + delay.value();
-  const Result r = access(trans, t, t, false);
-  if (r.kind == Result::kDone) {
-    trans.set_response_status(tlm::TLM_OK_RESPONSE);
-    if (r.at_ps == t + hit_ps_)
-      delay += hit_time_;  // a hit: no conversion
-    else
-      delay = ps(r.at_ps - now);
-    return tlm::TLM_COMPLETED;
-  }
+  const uint64_t t = (now + delay.value() + period_ps_ - 1) / period_ps_;
   phase = tlm::END_REQ;
+  if (!queue_.empty()) advance();  // the downstream may have moved on
+  const uint64_t c = std::max(t, next_lookup_);
+  if (!queue_.empty() || c * period_ps_ > decidable_ps()) {
+    queue_.push_back({&trans, t});  // behind the backlog: the wake-up is set
+    schedule_wake();
+    return tlm::TLM_UPDATED;
+  }
+  // Decidable now: a hit or a merge with a known fill completes in the return path.
+  uint64_t answer = 0;
+  switch (lookup({&trans, t}, c, &answer)) {
+    case Outcome::kAnswered:
+      trans.set_response_status(tlm::TLM_OK_RESPONSE);
+      delay = ps(answer * period_ps_ - now);
+      return tlm::TLM_COMPLETED;
+    case Outcome::kWaiting:
+      return tlm::TLM_UPDATED;
+    case Outcome::kBlocked:
+      // Cannot go on before the first fill, which is after t: decided later.
+      queue_.push_back({&trans, t, c});
+      schedule_wake();
+      return tlm::TLM_UPDATED;
+  }
   return tlm::TLM_UPDATED;
 }
 
-uint64_t L1Cache::free_mshr_time(uint64_t t) const {
-  // Candidates: t itself and every known fill after it; the first with a busy count below the
-  // MSHR count.
-  auto free_at = [&](uint64_t x) {
-    uint32_t busy = 0;
-    for (const Mshr& m : mshrs_) busy += m.busy_at(x) ? 1 : 0;
-    return busy < p_.mshrs;
-  };
-  if (free_at(t)) return t;
-  uint64_t best = kUnknown;
-  for (const Mshr& m : mshrs_)
-    if (m.in_use && m.fill_ps != kUnknown && m.fill_ps > t && m.fill_ps < best && free_at(m.fill_ps))
-      best = m.fill_ps;
-  return best;
+void L1Cache::respond(tlm::tlm_generic_payload& trans, uint64_t cycle) {
+  trans.set_response_status(tlm::TLM_OK_RESPONSE);
+  tlm::tlm_phase phase = tlm::BEGIN_RESP;
+  sc_core::sc_time delay = ps(cycle * period_ps_ - now_ps());
+  target_socket->nb_transport_bw(trans, phase, delay);
 }
 
-L1Cache::Result L1Cache::access(tlm::tlm_generic_payload& trans, uint64_t t,
-                                uint64_t request_ps, bool retry) {
-  const uint64_t now = now_ps();
-  const uint64_t addr = trans.get_address();
-  const uint64_t line = addr >> offset_bits_;
-  // One pass: a busy MSHR for the line (a merge), and how many are busy at t.
-  // Branch-free: which entry is busy is unpredictable.
-  uint32_t busy = 0;
-  size_t match = mshrs_.size();
-  for (size_t i = 0; i < mshrs_.size(); ++i) {
-    const bool b = mshrs_[i].busy_at(t);
-    busy += b;
-    match = b & (mshrs_[i].line == line) ? i : match;
-  }
-  if (match != mshrs_.size()) {
-    Mshr& m = mshrs_[match];
-    ++merged_;
-    tags_.access(addr);  // the replacement state sees every access
-    if (m.fill_ps != kUnknown) return {Result::kDone, m.fill_ps};
-    m.port->waiters.push_back(&trans);
-    return {Result::kPending, 0};
-  }
-  uint64_t free_ps = t;
-  if (busy < p_.mshrs && (retry || stalled_.empty())) {
-    // No stall possible: one tag access decides hit or primary miss.
-    if (tags_.access(addr)) {
-      ++hits_;
-      return {Result::kDone, t + hit_ps_};
-    }
-  } else {
-    if (tags_.contains(addr)) {
-      tags_.access(addr);
-      ++hits_;
-      return {Result::kDone, t + hit_ps_};
-    }
-    // A primary miss: wait for an MSHR (behind any request already waiting).
-    if (!retry && !stalled_.empty()) {
-      stalled_.push_back({&trans, t});
-      return {Result::kStalled, 0};
-    }
-    free_ps = free_mshr_time(t);
-    if (free_ps == kUnknown) {
-      stalled_.push_back({&trans, t});
-      return {Result::kStalled, 0};
-    }
-    tags_.access(addr);  // fills the line
-  }
-  stall_cycles_ += (free_ps - t) / p_.clock_period_ps;
-  t = free_ps;
-  ++primary_;
-  Mshr* m = nullptr;
-  for (Mshr& cand : mshrs_)
-    if (!cand.in_use || (cand.fill_ps != kUnknown && cand.fill_ps <= now)) {  // free for good
-      m = &cand;
-      break;
-    }
-  if (!m) {
-    m = &mshrs_.emplace_back();
-    m->port = std::make_unique<MshrPort>();
-    m->port->tag = new FetchTag;
-    m->port->tag->owner = static_cast<uint32_t>(mshrs_.size() - 1);
-    m->port->payload.set_extension(m->port->tag);
-  }
-  m->in_use = true;
-  m->line = line;
-  m->request_ps = request_ps;
-  m->alloc_ps = t;
-  m->fill_ps = kUnknown;
-  m->port->waiters.clear();
-  const FetchTag* up = trans.get_extension<FetchTag>();
-  m->port->tag->stream = up ? up->stream : Stream::kNode;
-  init_read(m->port->payload, line << offset_bits_, static_cast<uint32_t>(line_bytes_));
-  tlm::tlm_phase phase = tlm::BEGIN_REQ;
-  sc_core::sc_time delay = ps(t + hit_ps_ - now);
-  if (initiator_socket->nb_transport_fw(m->port->payload, phase, delay) == tlm::TLM_COMPLETED) {
-    set_fill(*m, now + delay.value());  // answered at once: the data time is known
-    return {Result::kDone, m->fill_ps};
-  }
-  m->port->waiters.push_back(&trans);
-  return {Result::kPending, 0};
+// ---- The lookup port --------------------------------------------------------------------------
+
+uint64_t L1Cache::decidable_ps() const {
+  // Our unknown fills complete after the downstream's next decision; our future reads are sent
+  // after the lookups still to decide.
+  return std::max(now_ps(), downstream_horizon_ ? downstream_horizon_->horizon_ps() : kNever);
 }
+
+uint64_t L1Cache::first_fill() const {
+  uint64_t first = kUnknown;
+  for (const Mshr& m : mshrs_) first = std::min(first, m.fill_cycle);
+  return first;
+}
+
+L1Cache::Outcome L1Cache::lookup(const Request& r, uint64_t c, uint64_t* answer_cycle) {
+  const uint64_t addr = r.trans->get_address();
+  const uint64_t line = addr >> offset_bits_;
+  // One pass: a busy MSHR for the line (a merge) and the lowest free one.
+  Mshr* match = nullptr;
+  Mshr* free = nullptr;
+  for (Mshr& m : mshrs_) {
+    if (m.busy_at(c)) {
+      if (m.line == line) match = &m;
+    } else if (!free) {
+      free = &m;
+    }
+  }
+  if (!match && !free && !tags_.contains(addr)) return Outcome::kBlocked;
+  next_lookup_ = c + 1;
+  if (match) {
+    ++merged_;
+    tags_.access(addr);  // every lookup is one tag access
+    if (match->fill_cycle != kUnknown) {
+      *answer_cycle = match->fill_cycle;
+      return Outcome::kAnswered;
+    }
+    match->waiters.push_back(r.trans);
+    return Outcome::kWaiting;
+  }
+  if (tags_.access(addr)) {
+    ++hits_;
+    *answer_cycle = c + p_.hit_cycles;
+    return Outcome::kAnswered;
+  }
+  // A primary miss (the line is now allocated): the MSHR reads the line downstream at c + H.
+  ++primary_;
+  if (r.blocked_at != kUnknown) stall_cycles_ += c - r.blocked_at;
+  Mshr& m = *free;
+  m.in_use = true;
+  m.line = line;
+  m.request_cycle = r.t;
+  m.fill_cycle = kUnknown;
+  m.waiters.clear();
+  const FetchTag* up = r.trans->get_extension<FetchTag>();
+  m.tag->stream = up ? up->stream : Stream::kNode;
+  init_read(m.payload, line << offset_bits_, static_cast<uint32_t>(line_bytes_));
+  tlm::tlm_phase phase = tlm::BEGIN_REQ;
+  const uint64_t now = now_ps();
+  sc_core::sc_time delay = ps((c + p_.hit_cycles) * period_ps_ - now);
+  if (initiator_socket->nb_transport_fw(m.payload, phase, delay) == tlm::TLM_COMPLETED) {
+    fill(m, now + delay.value());  // answered at once: the fill is known
+    *answer_cycle = m.fill_cycle;
+    return Outcome::kAnswered;
+  }
+  m.waiters.push_back(r.trans);
+  return Outcome::kWaiting;
+}
+
+void L1Cache::advance() {
+  while (!queue_.empty()) {
+    Request& r = queue_.front();
+    const uint64_t limit = decidable_ps();
+    uint64_t c;
+    if (r.blocked_at != kUnknown) {
+      // Refused every cycle until the first fill frees an MSHR: decidable once no fill unknown
+      // so far can come earlier.
+      c = first_fill();
+      if (c == kUnknown || c * period_ps_ > limit) break;
+    } else {
+      c = std::max(r.t, next_lookup_);
+      if (c * period_ps_ > limit) break;
+    }
+    uint64_t answer = 0;
+    const Outcome o = lookup(r, c, &answer);
+    if (o == Outcome::kBlocked) {
+      r.blocked_at = c;
+      continue;
+    }
+    tlm::tlm_generic_payload* trans = r.trans;
+    queue_.pop_front();
+    if (o == Outcome::kAnswered) respond(*trans, answer);
+  }
+  schedule_wake();
+}
+
+void L1Cache::schedule_wake() {
+  // An earlier notification overrides a pending later one.
+  const uint64_t h = horizon_ps();
+  if (h != kNever) wake_.notify(ps(h - std::min(h, now_ps())));
+}
+
+uint64_t L1Cache::horizon_ps() const {
+  if (queue_.empty()) return kNever;
+  const Request& r = queue_.front();
+  if (r.blocked_at != kUnknown) {
+    const uint64_t c = first_fill();  // unknown: the downstream's horizon bounds the initiator
+    return c == kUnknown ? kNever : c * period_ps_;
+  }
+  return std::max(r.t, next_lookup_) * period_ps_;
+}
+
+void L1Cache::wake() { advance(); }
+
+// ---- Downstream: fills ------------------------------------------------------------------------
 
 tlm::tlm_sync_enum L1Cache::nb_transport_bw(tlm::tlm_generic_payload& trans,
                                             tlm::tlm_phase& phase, sc_core::sc_time& delay) {
   if (phase == tlm::BEGIN_RESP) {
     Mshr& m = mshrs_[trans.get_extension<FetchTag>()->owner];
-    set_fill(m, now_ps() + delay.value());
-    for (tlm::tlm_generic_payload* w : m.port->waiters) respond(*w, m.fill_ps);
-    m.port->waiters.clear();
-    retry_stalled();
+    fill(m, now_ps() + delay.value());
+    for (tlm::tlm_generic_payload* w : m.waiters) respond(*w, m.fill_cycle);
+    m.waiters.clear();
+    advance();  // a blocked port may go on
   }
   return tlm::TLM_COMPLETED;
 }
 
-void L1Cache::set_fill(Mshr& m, uint64_t done_ps) {
-  m.fill_ps = align_up(done_ps);
-  ++fills_;
-  miss_latency_cycles_ += (m.fill_ps - m.request_ps) / p_.clock_period_ps;
-}
-
-void L1Cache::retry_stalled() {
-  // A fill time became known: stalled requests, oldest first, go on when an MSHR frees for them.
-  while (!stalled_.empty()) {
-    const Waiter s = stalled_.front();
-    // Not before now: an MSHR free earlier would have been handed over when its fill was known
-    // (and entries filled before now may have been reused).
-    const uint64_t t = free_mshr_time(std::max(s.t_ps, now_ps()));
-    if (t == kUnknown) return;
-    stalled_.pop_front();
-    stall_cycles_ += (t - s.t_ps) / p_.clock_period_ps;
-    const Result r = access(*s.trans, t, s.t_ps, true);  // a merge, a hit or a miss at t
-    if (r.kind == Result::kDone) respond(*s.trans, r.at_ps);
+void L1Cache::fill(Mshr& m, uint64_t done_ps) {
+  // One fill per cycle: the first cycle at or after the completion that no known fill holds.
+  uint64_t c = (done_ps + period_ps_ - 1) / period_ps_;
+  for (bool taken = true; taken;) {
+    taken = false;
+    for (const Mshr& o : mshrs_)
+      if (&o != &m && o.fill_cycle == c) {
+        ++c;
+        taken = true;
+      }
   }
-}
-
-void L1Cache::respond(tlm::tlm_generic_payload& trans, uint64_t at_ps) {
-  trans.set_response_status(tlm::TLM_OK_RESPONSE);
-  tlm::tlm_phase phase = tlm::BEGIN_RESP;
-  sc_core::sc_time delay = ps(at_ps - now_ps());
-  target_socket->nb_transport_bw(trans, phase, delay);
+  // The decidability rule (l1_cache.h) guarantees lookups never run ahead of a fill.
+  if (c <= next_lookup_ - 1 && next_lookup_ > 0)
+    throw std::logic_error(std::string(name()) + ": a fill at cycle " + std::to_string(c) +
+                           " became known after the lookup at cycle " +
+                           std::to_string(next_lookup_ - 1) + " (the downstream decided late)");
+  m.fill_cycle = c;
+  ++fills_;
+  miss_latency_cycles_ += c - m.request_cycle;
 }
 
 }  // namespace rtusim

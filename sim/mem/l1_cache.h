@@ -1,28 +1,41 @@
-// A non-blocking read cache as a SystemC module: the tag store and replacement of the
-// behavioural SetAssocCache (so its hit/miss decisions are the functional tier's, given the same
-// access order), plus hit latency, MSHRs and TLM-2.0 AT sockets (see mem_protocol.h).
+// A non-blocking read cache as a SystemC module (TLM-2.0 AT sockets, see mem_protocol.h): the
+// tag store and replacement of the behavioural SetAssocCache, one lookup port, MSHRs and a fill
+// port. Its cycle-level behaviour is the one the RTL node L1 (rtl_model/l1_cache.sv behind
+// RtlL1Adapter) implements, so l1.model = cpp and rtl give identical counters and cycles.
 //
-// Each upstream request reads bytes within one line, at time t = sc_time_stamp() + delay (on a
-// clock edge). Per request, in arrival order:
-//  - an MSHR is outstanding for its line at t: a merged (secondary) miss; the tag store's
-//    replacement state is updated (access()); the data comes with that MSHR's fill;
-//  - the line is in the tag store: a hit, TLM_COMPLETED with the data at t + hit_cycles;
-//  - else a primary miss, which needs an MSHR. An MSHR is busy from its allocation to its fill
-//    (the downstream completion, rounded up to a clock edge). If all are busy at t, the request
-//    stalls (so does every later miss while one is stalled; hits go on) until the first time T
-//    an MSHR is free, known as soon as that fill time is known, and then goes on as a miss at T.
-//    The tag store fills the line at once (allocate on miss, as the behavioural cache does) and a
-//    line read goes downstream at T + hit_cycles; at the fill every request on the MSHR gets
-//    BEGIN_RESP.
-// Counters: hits, primary and merged misses, mshr_stall_cycles (summed over stalled requests:
-// the cycles each waited for an MSHR) and the mean primary miss latency (request to fill,
-// stall included).
-// Tag-store updates happen in the order requests are presented, which is time order except
-// that a stalled request updates it when its MSHR time T becomes known.
+// Times are cycles of the clock (period P); a request's time t is its payload time rounded up
+// to an edge; H = hit_cycles.
+//  - Lookup port: one lookup per cycle, requests in arrival order; request i looks up at cycle
+//    c = max(t_i, c_{i-1} + 1). At c (state: earlier lookups, fills of cycle <= c):
+//      an MSHR busy at c (allocated <= c < its fill cycle) holds the line: a merged miss,
+//        answered at that fill;
+//      else the line is in the tags: a hit, answered at c + H;
+//      else an MSHR is free: a primary miss; the MSHR is busy from c, the line read goes
+//        downstream at c + H, the answer comes at its fill;
+//      else the port blocks (in order: nothing looks up meanwhile) until the earliest fill of
+//        a busy MSHR, T, where the request is a primary miss; mshr_stall_cycles += T - c.
+//    Every lookup but a blocked one is one SetAssocCache::access (touch, or victim + install +
+//    touch: allocate on miss, merges included), so the hit/miss state is the functional tier's
+//    for the same order.
+//  - Fill port: the downstream completion F gives the fill cycle, the first cycle >= F (rounded
+//    up to an edge) that no other fill holds, in the order the answers arrive. The MSHR is free
+//    from that cycle on; every request on it is answered there.
+//
+// Event-driven, not clocked: a lookup at cycle c is decided as soon as no fill unknown so far
+// can come at or before c, i.e. c*P is at or before the later of the kernel time and the
+// downstream horizon. That holds when the downstream announces each completion before it
+// happens and never decides a queued read before its horizon (other initiators' reads cannot
+// pull it forward; the DRAM model's decisions are so), and our own later reads go out after the
+// lookups still to decide. A request looked up at its own time is decided on arrival and, if
+// it is a hit or merges on a known fill, completes at once (TLM_COMPLETED, annotated time);
+// otherwise it gets BEGIN_RESP. A backlog (several requests in one cycle, a blocked port) is
+// decided by a method at its cycle, and the cache is a MemoryHorizon for the initiator
+// meanwhile.
+// Counters: hits, primary and merged misses, mshr_stall_cycles, and the mean primary miss
+// latency (fill cycle - request time t: port wait and stall included).
 #pragma once
 #include <cstdint>
 #include <deque>
-#include <memory>
 #include <string>
 #include <vector>
 
@@ -38,8 +51,6 @@
 
 namespace rtusim {
 
-class Stats;
-
 struct L1Params {
   CacheParams cache;              // geometry and replacement (l1.size/assoc/line/policy)
   uint32_t hit_cycles = 2;        // tag + data access
@@ -50,15 +61,20 @@ struct L1Params {
 // Throws InputError naming `prefix`.hit_cycles / .mshrs / the cache keys.
 void validate(const L1Params& p, const std::string& prefix);
 
-class L1Cache : public sc_core::sc_module, public NodeL1 {
+class L1Cache : public sc_core::sc_module, public NodeL1, public MemoryHorizon {
  public:
   tlm_utils::simple_target_socket<L1Cache> target_socket;        // from the unit
   tlm_utils::simple_initiator_socket<L1Cache> initiator_socket;  // to DRAM
 
   L1Cache(const sc_core::sc_module_name& name, const L1Params& p);
 
+  SC_HAS_PROCESS(L1Cache);
+
   tlm::tlm_target_socket<>& upstream() override { return target_socket; }
   tlm::tlm_initiator_socket<>& downstream() override { return initiator_socket; }
+  // The downstream's next decision (the DRAM). Without one, the downstream must answer every
+  // read at once (TLM_COMPLETED).
+  void set_downstream_horizon(const MemoryHorizon* h) override { downstream_horizon_ = h; }
 
   uint64_t hits() const override { return hits_; }
   uint64_t primary_misses() const override { return primary_; }
@@ -68,62 +84,59 @@ class L1Cache : public sc_core::sc_module, public NodeL1 {
     return fills_ ? double(miss_latency_cycles_) / double(fills_) : 0.0;
   }
   uint64_t bytes_from_dram() const override { return primary_ * line_bytes_; }
+  const MemoryHorizon* horizon() const override { return this; }
+  // The cycle of the first lookup not decided yet (the initiator must not run past it), or
+  // never.
+  uint64_t horizon_ps() const override;
   const SetAssocCache& tags() const { return tags_; }
   const L1Params& params() const { return p_; }
 
-  // Writes `prefix`.{accesses,hits,misses,primary_misses,merged_misses,mshr_stall_cycles,
-  // mean_miss_latency_cycles}.
-
  private:
   static constexpr uint64_t kUnknown = ~uint64_t{0};
-  struct Waiter {
+  struct Request {
     tlm::tlm_generic_payload* trans;
-    uint64_t t_ps;
-  };
-  struct MshrPort {  // what a miss needs besides its times: kept off the scanned array
-    std::vector<tlm::tlm_generic_payload*> waiters;
-    tlm::tlm_generic_payload payload;
-    FetchTag* tag = nullptr;  // owned by the payload (it deletes its extensions)
+    uint64_t t;                       // its time (cycle)
+    uint64_t blocked_at = kUnknown;   // first cycle it was refused for want of an MSHR
   };
   struct Mshr {
     bool in_use = false;
     uint64_t line = 0;
-    uint64_t request_ps = 0;  // the primary request's arrival
-    uint64_t alloc_ps = 0;    // busy from here ...
-    uint64_t fill_ps = kUnknown;  // ... to here (unknown until the downstream answers)
-    std::unique_ptr<MshrPort> port;
-    bool busy_at(uint64_t t) const { return in_use & (alloc_ps <= t) & (t < fill_ps); }
+    uint64_t request_cycle = 0;      // the primary request's time
+    uint64_t fill_cycle = kUnknown;  // busy until here (unknown until the downstream answers)
+    std::vector<tlm::tlm_generic_payload*> waiters;  // answered at the fill
+    tlm::tlm_generic_payload payload;  // the line read; owns its FetchTag
+    FetchTag* tag = nullptr;
+    bool busy_at(uint64_t c) const { return in_use & (c < fill_cycle); }
   };
-  struct Result {
-    enum Kind { kDone, kPending, kStalled } kind;
-    uint64_t at_ps;  // kDone: when the data is there
-  };
+  enum class Outcome { kAnswered, kWaiting, kBlocked };
 
   tlm::tlm_sync_enum nb_transport_fw(tlm::tlm_generic_payload& trans, tlm::tlm_phase& phase,
                                      sc_core::sc_time& delay);
   tlm::tlm_sync_enum nb_transport_bw(tlm::tlm_generic_payload& trans, tlm::tlm_phase& phase,
                                      sc_core::sc_time& delay);
-  // One access at time t_ps (a clock edge) of a request that arrived at request_ps; `retry`:
-  // a stalled request presented again (it does not queue behind the other stalled ones).
-  Result access(tlm::tlm_generic_payload& trans, uint64_t t_ps, uint64_t request_ps,
-                bool retry);
-  // Earliest time >= t with a free MSHR given the fills known so far; kUnknown if none.
-  uint64_t free_mshr_time(uint64_t t) const;
-  void set_fill(Mshr& m, uint64_t done_ps);
-  void retry_stalled();
-  void respond(tlm::tlm_generic_payload& trans, uint64_t at_ps);
-  uint64_t align_up(uint64_t t_ps) const {
-    return (t_ps + p_.clock_period_ps - 1) / p_.clock_period_ps * p_.clock_period_ps;
-  }
+  // Decides queued lookups, oldest first, while they are decidable; answers them.
+  void advance();
+  // Latest time (ps) up to which every fill is known.
+  uint64_t decidable_ps() const;
+  // The lookup of `r` at cycle c; kAnswered sets *answer_cycle.
+  Outcome lookup(const Request& r, uint64_t c, uint64_t* answer_cycle);
+  // Earliest fill cycle among the MSHRs (all busy); kUnknown if none is known.
+  uint64_t first_fill() const;
+  void fill(Mshr& m, uint64_t done_ps);
+  void respond(tlm::tlm_generic_payload& trans, uint64_t cycle);
+  void schedule_wake();  // the method runs at the horizon, if any
+  void wake();           // SC_METHOD: decides the backlog at its cycle
 
   L1Params p_;
   SetAssocCache tags_;
   uint32_t offset_bits_;
   uint64_t line_bytes_;
-  uint64_t hit_ps_;
-  sc_core::sc_time hit_time_;
-  std::vector<Mshr> mshrs_;  // busy or recently filled (reused once the kernel passes the fill)
-  std::deque<Waiter> stalled_;
+  uint64_t period_ps_;
+  const MemoryHorizon* downstream_horizon_ = nullptr;
+  std::vector<Mshr> mshrs_;
+  std::deque<Request> queue_;     // not looked up yet, arrival order
+  uint64_t next_lookup_ = 0;      // the port's next free cycle
+  sc_core::sc_event wake_;
   uint64_t hits_ = 0, primary_ = 0, merged_ = 0, stall_cycles_ = 0;
   uint64_t fills_ = 0, miss_latency_cycles_ = 0;
 };

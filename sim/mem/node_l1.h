@@ -39,9 +39,12 @@ class NodeL1 {
   // mean_miss_latency_cycles}, from the counters above: the same keys for every model.
   void write_stats(Stats& stats, const std::string& prefix) const;
 
-  // A model that acts on its own clock bounds the unit's run-ahead; nullptr when it answers
-  // every request with annotated times only (the C++ L1).
+  // Bounds the unit's run-ahead: the first time the model may act on its own (the RTL's next
+  // edge, the C++ L1's next undecided lookup); nullptr: never.
   virtual const MemoryHorizon* horizon() const { return nullptr; }
+  // The downstream memory's next decision, for a model that must know which fills may still
+  // come (the C++ L1); ignored by one that runs on its own clock.
+  virtual void set_downstream_horizon(const MemoryHorizon*) {}
 };
 
 // Builds the RTL node L1 (SystemC module `name`, parameters `p`); `vcd_path` non-empty: a VCD of

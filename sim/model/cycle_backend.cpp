@@ -29,15 +29,18 @@ struct CycleBackend::Top : sc_core::sc_module {
         unit("unit", p.unit, image, host) {
     unit.node_socket.bind(node_l1->upstream());
     node_l1->downstream().bind(dram.target_socket);
+    node_l1->set_downstream_horizon(&dram);
+    unit.add_horizon(&dram);
+    if (const MemoryHorizon* h = node_l1->horizon()) unit.add_horizon(h);
     if (p.data_cache) {
       data_cache = std::make_unique<L1Cache>("dcache", *p.data_cache);
       unit.data_socket.bind(data_cache->target_socket);
       data_cache->initiator_socket.bind(dram.target_socket);
+      data_cache->set_downstream_horizon(&dram);
+      unit.add_horizon(data_cache->horizon());
     } else {
       unit.data_socket.bind(dram.target_socket);
     }
-    unit.add_horizon(&dram);
-    if (const MemoryHorizon* h = node_l1->horizon()) unit.add_horizon(h);
   }
 };
 

@@ -1,5 +1,6 @@
-// Node L1: hit, miss, merged miss and MSHR-full stalls with exact cycle counts, against a
-// memory of fixed latency answering at once or later (the AT path).
+// Node L1: hit, miss, merged miss, one lookup per cycle, MSHR-full blocking and a pending line's
+// eviction, with exact cycle counts, against a memory of fixed latency answering at once or
+// later (the AT path).
 #include <gtest/gtest.h>
 
 #include "mem/l1_cache.h"
@@ -38,6 +39,7 @@ struct Bench {
         mem("mem", kMemLatency, deferred) {
     req.socket.bind(l1.target_socket);
     l1.initiator_socket.bind(mem.socket);
+    if (deferred) l1.set_downstream_horizon(&mem);
   }
 };
 
@@ -76,26 +78,74 @@ TEST_P(L1CacheTest, SecondaryMissMergesOnTheMshr) {
   EXPECT_EQ(s.at("l1.accesses").get<uint64_t>(), 3u);
 }
 
-TEST_P(L1CacheTest, FullMshrsStallMissesNotHits) {
-  // One MSHR. X misses at 0 (fill 52). Y misses at 1: waits for X's MSHR until 52, goes to
-  // memory at 54, fills at 104. W misses at 2: waits behind Y until 104, fills at 156. A hit
-  // on line 0x0 (filled first, at 0..?) goes on meanwhile.
+TEST_P(L1CacheTest, FullMshrsBlockThePortInOrder) {
+  // One MSHR. Line 0 misses at 0 (fill 52). X misses at 60 (fill 112). Y at 61 finds the MSHR
+  // busy: the port blocks until X's fill, Y misses at 112 (memory at 114, fill 164). W, at 62,
+  // waits for the port, looks up at 113, blocks until 164 (fill 216). The hit on line 0 at 63
+  // waits behind them all: looks up at 165, answered at 167.
   Bench b({{0, 0x0}, {60 * kCycle, X}, {61 * kCycle, Y}, {62 * kCycle, W}, {63 * kCycle, 0x8}},
           1, GetParam());
   sc_core::sc_start();
   EXPECT_EQ(b.req.done_ps[0], 52 * kCycle);
   EXPECT_EQ(b.req.done_ps[1], 112 * kCycle);
-  EXPECT_EQ(b.req.done_ps[2], 164 * kCycle);   // stalled 51 cycles (61 -> 112)
-  EXPECT_EQ(b.req.done_ps[3], 216 * kCycle);   // stalled 102 cycles (62 -> 164)
-  EXPECT_EQ(b.req.done_ps[4], 65 * kCycle);    // a hit while misses stall
-  EXPECT_EQ(b.l1.mshr_stall_cycles(), 51u + 102u);
+  EXPECT_EQ(b.req.done_ps[2], 164 * kCycle);
+  EXPECT_EQ(b.req.done_ps[3], 216 * kCycle);
+  EXPECT_EQ(b.req.done_ps[4], 167 * kCycle);
+  EXPECT_EQ(b.l1.mshr_stall_cycles(), (112u - 61u) + (164u - 113u));
   EXPECT_EQ(b.l1.primary_misses(), 4u);
   EXPECT_EQ(b.l1.hits(), 1u);
   ASSERT_EQ(b.mem.arrivals.size(), 4u);
   EXPECT_EQ(b.mem.arrivals[2].at_ps, 114 * kCycle);
   EXPECT_EQ(b.mem.arrivals[3].at_ps, 166 * kCycle);
-  // Latency from request to fill, stalls included: 52, 52, 103, 154.
+  // Latency from request to fill, port wait and stall included: 52, 52, 103, 154.
   EXPECT_DOUBLE_EQ(b.l1.mean_miss_latency_cycles(), (52.0 + 52 + 103 + 154) / 4);
+}
+
+TEST_P(L1CacheTest, OneLookupPerCycle) {
+  // Three misses presented in cycle 0 look up at 0, 1 and 2; a hit at 1 waits until 3.
+  Bench b({{0, X}, {0, Y}, {0, W}, {1 * kCycle, 0x40}, {60 * kCycle, X}, {60 * kCycle, Y}}, 8,
+          GetParam());
+  sc_core::sc_start();
+  EXPECT_EQ(b.req.done_ps[0], 52 * kCycle);
+  EXPECT_EQ(b.req.done_ps[1], 53 * kCycle);
+  EXPECT_EQ(b.req.done_ps[2], 54 * kCycle);
+  EXPECT_EQ(b.req.done_ps[3], 55 * kCycle);  // a miss looked up at 3: memory at 5
+  EXPECT_EQ(b.req.done_ps[4], 62 * kCycle);  // hits at 60 and 61
+  EXPECT_EQ(b.req.done_ps[5], 63 * kCycle);
+  ASSERT_EQ(b.mem.arrivals.size(), 4u);
+  EXPECT_EQ(b.mem.arrivals[1].at_ps, 3 * kCycle);
+  EXPECT_EQ(b.l1.primary_misses(), 4u);
+  EXPECT_EQ(b.l1.hits(), 2u);
+  EXPECT_EQ(b.l1.mshr_stall_cycles(), 0u);
+  // The latency counts the port wait: 52, 53, 54, 54.
+  EXPECT_DOUBLE_EQ(b.l1.mean_miss_latency_cycles(), (52.0 + 53 + 54 + 54) / 4);
+}
+
+TEST_P(L1CacheTest, MergeInTheLastCycleBeforeTheFillThenHit) {
+  // X fills at 52: a lookup at 51 merges (answered at 52), one at 52 hits (answered at 54).
+  Bench b({{0, X}, {51 * kCycle, X + 8}, {52 * kCycle, X + 16}}, 8, GetParam());
+  sc_core::sc_start();
+  EXPECT_EQ(b.req.done_ps[1], 52 * kCycle);
+  EXPECT_EQ(b.req.done_ps[2], 54 * kCycle);
+  EXPECT_EQ(b.l1.merged_misses(), 1u);
+  EXPECT_EQ(b.l1.hits(), 1u);
+}
+
+TEST_P(L1CacheTest, APendingLineEvictedIsReinstalledByItsMerge) {
+  // Five lines of one 4-way set miss at 0..4 (allocate on miss): U evicts X while X's read is
+  // pending. X + 8 at 5 still merges on X's MSHR (answered at X's fill), and its tag access
+  // installs X again, evicting Y (the least recent). Y at 60 misses again.
+  constexpr uint64_t V = 0x4000, U = 0x5000;
+  Bench b({{0, X}, {1 * kCycle, Y}, {2 * kCycle, W}, {3 * kCycle, V}, {4 * kCycle, U},
+           {5 * kCycle, X + 8}, {60 * kCycle, Y}, {61 * kCycle, X}},
+          8, GetParam());
+  sc_core::sc_start();
+  EXPECT_EQ(b.req.done_ps[5], 52 * kCycle);
+  EXPECT_EQ(b.req.done_ps[6], 112 * kCycle);
+  EXPECT_EQ(b.req.done_ps[7], 63 * kCycle);
+  EXPECT_EQ(b.l1.primary_misses(), 6u);
+  EXPECT_EQ(b.l1.merged_misses(), 1u);
+  EXPECT_EQ(b.l1.hits(), 1u);
 }
 
 INSTANTIATE_TEST_SUITE_P(MemoryAnswers, L1CacheTest, ::testing::Values(false, true),

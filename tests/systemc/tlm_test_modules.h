@@ -59,9 +59,10 @@ struct Requester : sc_core::sc_module {
 };
 
 // Answers every read latency_ps after it arrives. `deferred` = false: at once (TLM_COMPLETED
-// with the delay annotated); true: accepts (END_REQ) and sends BEGIN_RESP at that time from a
-// process, so the initiator learns the time only then.
-struct FixedLatencyMemory : sc_core::sc_module {
+// with the delay annotated); true: accepts (END_REQ) and decides half-way through (like the DRAM,
+// before the completion): a process sends BEGIN_RESP then with the rest as delay, so the
+// initiator learns the time only then. Its horizon is the next such decision.
+struct FixedLatencyMemory : sc_core::sc_module, MemoryHorizon {
   tlm_utils::simple_target_socket<FixedLatencyMemory> socket;
   uint64_t latency_ps;
   bool deferred;
@@ -90,8 +91,8 @@ struct FixedLatencyMemory : sc_core::sc_module {
       d += ps(latency_ps);
       return tlm::TLM_COMPLETED;
     }
-    due.push_back({at + latency_ps, &t});
-    wake.notify(ps(at + latency_ps - now_ps()));
+    due.push_back({at + latency_ps / 2, &t});
+    wake.notify(ps(at + latency_ps / 2 - now_ps()));
     ph = tlm::END_REQ;
     return tlm::TLM_UPDATED;
   }
@@ -104,7 +105,7 @@ struct FixedLatencyMemory : sc_core::sc_module {
         due.erase(due.begin() + static_cast<long>(i));
         t->set_response_status(tlm::TLM_OK_RESPONSE);
         tlm::tlm_phase ph = tlm::BEGIN_RESP;
-        sc_core::sc_time d = sc_core::SC_ZERO_TIME;
+        sc_core::sc_time d = ps(latency_ps - latency_ps / 2);
         socket->nb_transport_bw(*t, ph, d);
       } else {
         next = std::min(next, due[i].first);
@@ -112,6 +113,11 @@ struct FixedLatencyMemory : sc_core::sc_module {
       }
     }
     if (next != ~uint64_t{0}) wake.notify(ps(next - now));
+  }
+  uint64_t horizon_ps() const override {
+    uint64_t h = kNever;
+    for (const auto& d : due) h = std::min(h, d.first);
+    return h;
   }
 };
 
