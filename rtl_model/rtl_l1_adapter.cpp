@@ -154,7 +154,7 @@ uint64_t RtlL1Adapter::first_drivable_cycle() const {
 
 // ---- Downstream: line reads out, fills in -------------------------------------------------
 
-void RtlL1Adapter::send_line_read(uint64_t addr) {
+void RtlL1Adapter::send_line_read(uint64_t addr, sc_core::sc_time delay) {
   tlm::tlm_generic_payload* m;
   if (free_mem_payloads_.empty()) {
     m = &mem_payloads_.emplace_back();
@@ -165,7 +165,6 @@ void RtlL1Adapter::send_line_read(uint64_t addr) {
   }
   init_read(*m, addr, p_.cache.line_bytes);
   tlm::tlm_phase phase = tlm::BEGIN_REQ;
-  sc_core::sc_time delay = sc_core::SC_ZERO_TIME;
   if (initiator_socket->nb_transport_fw(*m, phase, delay) == tlm::TLM_COMPLETED) {
     phase = tlm::BEGIN_RESP;
     nb_transport_bw(*m, phase, delay);
@@ -187,7 +186,7 @@ tlm::tlm_sync_enum RtlL1Adapter::nb_transport_bw(tlm::tlm_generic_payload& trans
   free_mem_payloads_.push_back(&trans);
   if (cycle_open_ && fill_cycle - 1 == cycle_) {  // joins the cycle being driven
     drive_fill(addr);
-    output_at_edge_ = true;
+    answer_at_edge_ = true;
   } else if (!running_) {
     work_.notify(sc_core::SC_ZERO_TIME);
   }
@@ -248,7 +247,11 @@ void RtlL1Adapter::drive_cycle(uint64_t c) {
     }
   }
   if (!offering_) sig_.i_req_valid.write(false);
-  output_at_edge_ = filling_ || sig_.o_resp_valid.read() || sig_.o_mem_req_valid.read();
+  // A line read on the outputs is taken at this cycle's edge (memory is always ready): it goes
+  // to DRAM now, with that edge as its time, so DRAM has it before it decides at that edge.
+  if (sig_.o_mem_req_valid.read())
+    send_line_read(sig_.o_mem_req_addr.read(), ps((c + 1) * period_ - now_ps()));
+  answer_at_edge_ = filling_ || sig_.o_resp_valid.read();
   cycle_open_ = true;
 }
 
@@ -287,7 +290,6 @@ void RtlL1Adapter::sample(uint64_t edge_ps) {
     fills_.erase(fills_.begin());
   }
   if (sig_.o_resp_valid.read()) answer(sig_.o_resp_id.read(), edge_ps);
-  if (sig_.o_mem_req_valid.read()) send_line_read(sig_.o_mem_req_addr.read());
 }
 
 bool RtlL1Adapter::quiescent() const {
@@ -313,7 +315,7 @@ uint64_t RtlL1Adapter::horizon_ps() const {
   if (running_) {
     if (!cycle_open_) return now_ps();  // between an edge and the next cycle's inputs
     const uint64_t edge = (cycle_ + 1) * period_;
-    return output_at_edge_ ? edge : edge + period_;
+    return answer_at_edge_ ? edge : edge + period_;
   }
   // Idle: the first fill answers its waiters at its edge; the head, looked up in cycle c,
   // answers no earlier than c + 2 (a hit; a merge is answered at a fill, known or bounded by

@@ -10,7 +10,11 @@
 //    c. At the edge (c+1)P the adapter reads o_req_hit / o_req_merged / o_req_mshr and counts
 //    the outcome; a miss joins the waiter list of o_req_mshr (the RTL keeps none).
 //  - Hits: o_resp_valid / o_resp_id in cycle c+1, answered upstream at the edge (c+2)P.
-//  - Line reads: o_mem_req_valid in cycle c+1, sent to DRAM at the edge (c+2)P.
+//  - Line reads: o_mem_req_valid in cycle c+1 (i_mem_req_ready is always high, so the RTL
+//    hands the read over at the edge (c+2)P). The READ's time at DRAM is that edge; the adapter
+//    sends it as soon as the output shows it, at the start of cycle c+1, annotated with (c+2)P,
+//    so DRAM holds it before it decides anything at (c+2)P (as it holds L1Cache's read, sent
+//    when its lookup is decided).
 //  - Fills: DRAM's BEGIN_RESP tells the completion F (at its decision time, long before F). The
 //    fill cycle T is the first cycle >= ceil(F/P) no other fill holds, taken in the order the
 //    answers arrive; i_mem_resp_* is driven in cycle T-1 and at the edge TP every waiter of
@@ -30,8 +34,9 @@
 // clock stops until then (a stopped clock is equivalent to idle edges); that includes a head
 // refused for want of an MSHR, which waits, offered, for the next fill. The module is a memory
 // horizon for the unit, the earliest time it may answer something the unit does not know yet:
-// while clocking, the next edge if something leaves the RTL there, else the edge after; idle,
-// the first known fill's edge or two cycles after the head's lookup cycle, or never.
+// while clocking, the next edge if an answer leaves there (a hit on o_resp_valid, a fill),
+// else the edge after; idle, the first known fill's edge or two cycles after the head's lookup
+// cycle, or never.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -107,7 +112,7 @@ class RtlL1Adapter : public sc_core::sc_module, public NodeL1, public MemoryHori
   // Reads the outputs of the cycle that the edge at `edge_ps` ends and acts on them.
   void sample(uint64_t edge_ps);
   void answer(uint32_t id, uint64_t edge_ps);
-  void send_line_read(uint64_t addr);
+  void send_line_read(uint64_t addr, sc_core::sc_time delay);  // a READ of the line at now + delay
   bool quiescent() const;
   uint64_t first_drivable_cycle() const;  // the earliest cycle whose inputs are not fixed yet
   uint64_t head_lookup_cycle() const;     // the queue head's lookup cycle if offered next
@@ -145,7 +150,7 @@ class RtlL1Adapter : public sc_core::sc_module, public NodeL1, public MemoryHori
   bool running_ = false;     // the clock is running
   bool cycle_open_ = false;  // the inputs of cycle `cycle_` are driven (before its edge)
   uint64_t cycle_ = 0;
-  bool output_at_edge_ = false;  // something leaves the RTL at the edge ending `cycle_`
+  bool answer_at_edge_ = false;  // an answer leaves at the edge ending `cycle_`
   sc_core::sc_event work_;
 
   sc_core::sc_trace_file* vcd_ = nullptr;
