@@ -22,16 +22,19 @@ std::unique_ptr<sc_core::sc_module> bind(const char* name, sc_core::sc_signal_in
   m->o_req_ready(s.o_req_ready);
   m->i_req_addr(s.i_req_addr);
   m->i_req_id(s.i_req_id);
+  m->o_req_hit(s.o_req_hit);
+  m->o_req_merged(s.o_req_merged);
+  m->o_req_mshr(s.o_req_mshr);
   m->o_resp_valid(s.o_resp_valid);
   m->i_resp_ready(s.i_resp_ready);
   m->o_resp_id(s.o_resp_id);
-  m->o_resp_hit(s.o_resp_hit);
-  m->o_resp_merged(s.o_resp_merged);
   m->o_mem_req_valid(s.o_mem_req_valid);
   m->i_mem_req_ready(s.i_mem_req_ready);
   m->o_mem_req_addr(s.o_mem_req_addr);
   m->i_mem_resp_valid(s.i_mem_resp_valid);
   m->i_mem_resp_addr(s.i_mem_resp_addr);
+  m->o_fill_valid(s.o_fill_valid);
+  m->o_fill_mshr(s.o_fill_mshr);
   m->o_mshrs_busy(s.o_mshrs_busy);
   return m;
 }

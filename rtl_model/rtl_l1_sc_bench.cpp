@@ -1,12 +1,15 @@
 // SystemC bench of the Verilated RTL L1 (default build: 8192 B, 4-way, 64 B, lru, 8 MSHRs), in
-// the Verilator examples' shape: drives a few requests through a fixed-latency memory, checks
-// the outcome classes and cycle counts of l1_cache.sv's documented timing, prints PASS/FAIL and
-// sets the exit code. Usage: rtl_l1_sc_bench [--trace FILE.vcd]
+// the Verilator examples' shape: drives a few requests through a fixed-latency memory, keeps the
+// requests waiting on each MSHR as the rtl tier's adapter does, checks the outcomes and the
+// cycle counts of the node L1 timing spec (rtl_model/README.md), prints PASS/FAIL and sets the
+// exit code. Usage: rtl_l1_sc_bench [--trace FILE.vcd]
 #include <cstdio>
 #include <cstring>
 #include <deque>
+#include <map>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include <systemc>
 
@@ -18,10 +21,12 @@ namespace {
 
 constexpr uint64_t kMemLatencyCycles = 10;
 
+enum class Outcome { kHit, kPrimary, kMerged };
+
 struct Response {
   uint64_t edge;
   uint32_t id;
-  bool hit, merged;
+  Outcome outcome;
 };
 
 SC_MODULE(Bench) {
@@ -31,6 +36,8 @@ SC_MODULE(Bench) {
   uint64_t edge = 0, mem_requests = 0;
   std::deque<std::pair<uint64_t, uint64_t>> fills;  // (edge the fill is driven at, address)
   std::deque<Response> responses;
+  std::map<uint32_t, Outcome> outcomes;               // by id, at acceptance
+  std::map<uint32_t, std::vector<uint32_t>> waiters;  // by MSHR
 
   SC_HAS_PROCESS(Bench);
   Bench(sc_core::sc_module_name n, RtlL1Signals& signals) : sc_module(n), s(signals) {
@@ -52,10 +59,24 @@ SC_MODULE(Bench) {
     wait();
     ++edge;
     const bool accepted = s.i_req_valid.read() && s.o_req_ready.read();
+    if (accepted) {
+      const uint32_t id = s.i_req_id.read();
+      const Outcome o = s.o_req_hit.read()      ? Outcome::kHit
+                        : s.o_req_merged.read() ? Outcome::kMerged
+                                                : Outcome::kPrimary;
+      outcomes[id] = o;
+      if (o != Outcome::kHit) waiters[s.o_req_mshr.read()].push_back(id);
+    }
+    if (s.i_mem_resp_valid.read()) {  // the fill's MSHR is free from this edge: its waiters
+      check(s.o_fill_valid.read(), "the fill matches a waiting MSHR");
+      for (const uint32_t id : waiters[s.o_fill_mshr.read()])
+        responses.push_back({edge, id, outcomes[id]});
+      waiters[s.o_fill_mshr.read()].clear();
+    }
     if (s.o_resp_valid.read() && s.i_resp_ready.read())
-      responses.push_back({edge, s.o_resp_id.read(), s.o_resp_hit.read(), s.o_resp_merged.read()});
+      responses.push_back({edge, s.o_resp_id.read(), Outcome::kHit});
     if (s.o_mem_req_valid.read() && s.i_mem_req_ready.read()) {
-      ++mem_requests;  // the fill is valid in the cycle that ends L edges later
+      ++mem_requests;  // filled in the cycle that ends L edges later
       fills.emplace_back(edge + kMemLatencyCycles - 1, s.o_mem_req_addr.read());
     }
     s.i_mem_resp_valid.write(false);
@@ -101,26 +122,28 @@ SC_MODULE(Bench) {
     s.rst_n.write(true);
     wait();
 
-    // A miss: memory latency L -> answered L + 3 cycles after acceptance.
+    // A miss, looked up in cycle a-1: its line read is taken at edge a+1 = (a-1) + 2, and it
+    // is answered at its fill's edge, L edges later.
     const uint64_t a0 = request(0x1000, 1);
     const Response r1 = await(1);
-    check(!r1.hit && !r1.merged, "first access is a primary miss");
-    check(r1.edge - a0 == kMemLatencyCycles + 3, "miss latency is L + 3 cycles");
+    check(r1.outcome == Outcome::kPrimary, "first access is a primary miss");
+    check(r1.edge == a0 + 1 + kMemLatencyCycles, "answered at the fill, L + 2 after the lookup");
     check(mem_requests == 1, "one memory request for the miss");
 
-    // A hit: answered HIT_LATENCY = 1 cycle after acceptance.
+    // A hit: answered at (a-1) + 2.
     const uint64_t a1 = request(0x1008, 2);
     const Response r2 = await(2);
-    check(r2.hit, "second access to the line hits");
-    check(r2.edge - a1 == RtlL1Fixed::kHitLatencyCycles, "hit latency is 1 cycle");
+    check(r2.outcome == Outcome::kHit, "second access to the line hits");
+    check(r2.edge == a1 + RtlL1Fixed::kHitLatencyCycles, "hit answered 2 cycles after lookup");
 
-    // Two requests to one missing line: one memory request, the second merged.
+    // Two requests to one missing line: one memory request, the second merged, both answered
+    // at the fill.
     request(0x2000, 3);
     request(0x2010, 4);
     const Response r3 = await(3), r4 = await(4);
-    check(!r3.hit && !r3.merged, "primary miss");
-    check(!r4.hit && r4.merged, "secondary miss is merged");
-    check(r4.edge == r3.edge + 1, "merged request answered the cycle after the primary");
+    check(r3.outcome == Outcome::kPrimary, "primary miss");
+    check(r4.outcome == Outcome::kMerged, "secondary miss is merged");
+    check(r4.edge == r3.edge, "merged request answered at the primary's fill");
     check(mem_requests == 2, "merged miss sent no memory request");
 
     std::printf("%s: rtl_l1_sc_bench (%d failure%s)\n", failures ? "FAIL" : "PASS", failures,

@@ -22,7 +22,7 @@ for g in "8192 4 64 0" "8192 4 64 1" "4096 2 32 1" "16384 8 64 0"; do
   lint "l1_cache $size/$ways/$line/policy=$pol" -GSIZE_BYTES="$size" -GWAYS="$ways" \
     -GLINE_BYTES="$line" -GPOLICY="$pol" "$l1"
 done
-lint "l1_cache hit latency 3, 1 target, 1 response entry" -GHIT_LATENCY=3 -GTARGETS=1 -GRESP_DEPTH=1 "$l1"
+lint "l1_cache hit latency 3, 3 MSHRs" -GHIT_LATENCY=3 -GMSHRS=3 "$l1"
 lint "l1_cache 2 MSHRs, 2 sets, 32-bit addresses" -GMSHRS=2 -GSIZE_BYTES=512 -GADDR_W=32 "$l1"
 # A bad parameter set must be rejected at elaboration.
 if verilator --lint-only -Wall -GSIZE_BYTES=8000 "$l1" > /dev/null 2>&1; then

@@ -31,11 +31,14 @@ struct Inputs {
 
 struct Outputs {
   bool req_ready = false;
+  bool req_hit = false, req_merged = false;  // the lookup's outcome (primary: both false)
+  uint32_t req_mshr = 0;
   bool resp_valid = false;
   uint32_t resp_id = 0;
-  bool resp_hit = false, resp_merged = false;
   bool mem_req_valid = false;
   uint64_t mem_req_addr = 0;
+  bool fill_valid = false;
+  uint32_t fill_mshr = 0;
   uint32_t mshrs_busy = 0;
 };
 
@@ -52,10 +55,11 @@ class RtlL1Model {
   // Holds rst_n low for two edges, then releases it with every input idle.
   virtual void reset() = 0;
 
-  // Blocking mode: one request at a time, the fill returned the cycle after the memory request
-  // is accepted; a response is popped together with the next request's acceptance. Appends each
-  // access's outcome. Throws std::runtime_error on a protocol violation (never ready, no answer,
-  // wrong id, more than one memory request per access).
+  // Blocking mode: one request at a time; a hit's response is taken together with the next
+  // request's acceptance; a miss's line read is taken the cycle after its lookup and its fill
+  // driven the cycle after that. Appends each access's outcome (from the lookup outputs).
+  // Throws std::runtime_error on a protocol violation (not ready, no or wrong hit response, no
+  // line read for a miss, a fill that frees another MSHR than the miss's).
   virtual void replay_blocking(std::span<const uint64_t> addrs, std::vector<Outcome>& out) = 0;
 
   virtual uint64_t cycles() const = 0;

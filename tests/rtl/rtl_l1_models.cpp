@@ -43,12 +43,15 @@ class Model final : public RtlL1Model {
   Outputs outputs() const override {
     Outputs o;
     o.req_ready = m_->o_req_ready;
+    o.req_hit = m_->o_req_hit;
+    o.req_merged = m_->o_req_merged;
+    o.req_mshr = m_->o_req_mshr;
     o.resp_valid = m_->o_resp_valid;
     o.resp_id = m_->o_resp_id;
-    o.resp_hit = m_->o_resp_hit;
-    o.resp_merged = m_->o_resp_merged;
     o.mem_req_valid = m_->o_mem_req_valid;
     o.mem_req_addr = m_->o_mem_req_addr;
+    o.fill_valid = m_->o_fill_valid;
+    o.fill_mshr = m_->o_fill_mshr;
     o.mshrs_busy = m_->o_mshrs_busy;
     return o;
   }
@@ -84,34 +87,33 @@ class Model final : public RtlL1Model {
       m.i_req_id = id;
       m.eval();
       if (!m.o_req_ready) throw std::runtime_error("rtl_l1: request not ready in blocking mode");
-      posedge();  // accepts the request (and pops the previous response)
+      const Outcome o = m.o_req_hit      ? Outcome::kHit
+                        : m.o_req_merged ? Outcome::kMergedMiss
+                                         : Outcome::kPrimaryMiss;
+      const uint32_t mshr = m.o_req_mshr;
+      out.push_back(o);
+      posedge();  // accepts the request (and takes the previous hit's response)
       m.i_req_valid = 0;
       m.eval();
-      int mem_reqs = 0, guard = 0;
-      while (!m.o_resp_valid) {
-        if (++guard > 64) throw std::runtime_error("rtl_l1: no response in blocking mode");
-        if (m.o_mem_req_valid) {
-          const uint64_t line = m.o_mem_req_addr;
-          ++mem_reqs;
-          ++memory_requests_;
-          posedge();  // memory accepts
-          m.i_mem_resp_valid = 1;
-          m.i_mem_resp_addr = line;
-          m.eval();
-          posedge();  // fill
-          m.i_mem_resp_valid = 0;
-          m.eval();
-        } else {
-          posedge();
-        }
+      if (o == Outcome::kHit) {
+        if (!m.o_resp_valid || m.o_resp_id != id)
+          throw std::runtime_error("rtl_l1: no response, or one for another id, after a hit");
+        if (m.o_mem_req_valid) throw std::runtime_error("rtl_l1: a line read for a hit");
+        continue;
       }
-      if (m.o_resp_id != id) throw std::runtime_error("rtl_l1: response for another id");
-      if (mem_reqs > 1) throw std::runtime_error("rtl_l1: two memory requests for one access");
-      out.push_back(m.o_resp_hit ? Outcome::kHit
-                    : m.o_resp_merged ? Outcome::kMergedMiss
-                                      : Outcome::kPrimaryMiss);
-      if (m.o_resp_hit == (mem_reqs == 1))
-        throw std::runtime_error("rtl_l1: hit with a memory request, or miss without");
+      if (!m.o_mem_req_valid) throw std::runtime_error("rtl_l1: no line read for a miss");
+      const uint64_t line = m.o_mem_req_addr;
+      ++memory_requests_;
+      posedge();  // memory takes the read
+      m.i_mem_resp_valid = 1;
+      m.i_mem_resp_addr = line;
+      m.eval();
+      if (!m.o_fill_valid || m.o_fill_mshr != mshr)
+        throw std::runtime_error("rtl_l1: the fill frees another MSHR than the miss's");
+      posedge();  // the fill frees the MSHR
+      m.i_mem_resp_valid = 0;
+      m.eval();
+      if (m.o_mshrs_busy != 0) throw std::runtime_error("rtl_l1: an MSHR busy after its fill");
     }
   }
 

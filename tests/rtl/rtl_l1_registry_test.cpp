@@ -1,5 +1,6 @@
 // The registry of built RTL L1 combinations: it lists exactly the Verilated models, finds them
-// by cache parameters, and names every key of an unbuilt combination in its error.
+// by cache parameters, names every key of an unbuilt combination in its error, and its fixed
+// MSHR count is the models'.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -41,6 +42,29 @@ TEST(RtlL1Registry, UnbuiltCombinationIsAnInputErrorListingTheBuiltOnes) {
   p.size_bytes = 8192;
   p.policy = "fifo";
   EXPECT_THROW(rtl_l1_build(p), InputError);
+}
+
+TEST(RtlL1Registry, EveryBuildHasTheFixedMshrCount) {
+  for (const RtlL1Build& b : rtl_l1_builds()) {
+    SCOPED_TRACE(std::string(b.model));
+    auto m = make_cpp_model(std::string(b.model));
+    ASSERT_TRUE(m);
+    Inputs in;
+    in.req_valid = true;
+    uint32_t accepted = 0;
+    for (uint32_t i = 0; i < RtlL1Build::kMshrs + 1; ++i) {  // primaries on distinct lines
+      in.req_addr = uint64_t{b.size_bytes} * (i + 1);
+      in.req_id = i;
+      m->drive(in);
+      accepted += m->outputs().req_ready ? 1 : 0;
+      m->posedge();
+    }
+    EXPECT_EQ(accepted, RtlL1Build::kMshrs) << "the last primary waits for an MSHR";
+    EXPECT_EQ(m->outputs().mshrs_busy, RtlL1Build::kMshrs);
+    in.req_addr = b.size_bytes;  // pending: merges
+    m->drive(in);
+    EXPECT_TRUE(m->outputs().req_ready && m->outputs().req_merged) << "merges go on";
+  }
 }
 
 }  // namespace

@@ -3,12 +3,12 @@
 // of several runs. Usage: rtl_l1_speed_bench [RUNS]  (trace: the kitchen when
 // $RTUSIM_SCENES/kitchen/kitchen.gltf exists, else the built-in Cornell room)
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
 #include <vector>
 
+#include "bench_timing.h"
 #include "cache/set_assoc_cache.h"
 #include "rtl/rtl_l1_registry.h"
 #include "rtl_l1_harness.h"
@@ -16,19 +16,8 @@
 
 using namespace rtusim;
 using namespace rtusim::rtltest;
-
-namespace {
-
-double now_s() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
-
-}  // namespace
+using rtusim::bench_timing::median;
+using rtusim::bench_timing::now_s;
 
 int main(int argc, char** argv) {
   const int runs = argc > 1 ? std::max(1, std::atoi(argv[1])) : 5;
