@@ -1,7 +1,6 @@
 #include "rtl_l1_adapter.h"
 
 #include <algorithm>
-#include <cstdio>
 #include <exception>
 #include <filesystem>
 #include <stdexcept>
@@ -67,25 +66,24 @@ void RtlL1Adapter::open_vcd(const std::string& path) {
   sc_core::sc_trace(vcd_, sig_.o_mshrs_busy, m + "o_mshrs_busy");
 }
 
-RtlL1Adapter::~RtlL1Adapter() {
+void RtlL1Adapter::finish() {
   if (!vcd_) return;
-  // SystemC wrote TEMP.vcd; it goes into place only if no exception is unwinding through the
-  // run that owns this adapter (CycleBackend), else it is dropped.
+  // SystemC wrote TEMP.vcd: renamed to TEMP, then committed to the asked-for path.
+  sc_core::sc_close_vcd_trace_file(vcd_);
+  vcd_ = nullptr;
+  std::filesystem::path written = vcd_file_->temp_path();
+  written += ".vcd";
+  std::filesystem::rename(written, vcd_file_->temp_path());
+  vcd_file_->commit();
+}
+
+RtlL1Adapter::~RtlL1Adapter() {
+  if (!vcd_) return;  // none, or committed
   sc_core::sc_close_vcd_trace_file(vcd_);
   std::filesystem::path written = vcd_file_->temp_path();
   written += ".vcd";
   std::error_code ec;
-  if (std::uncaught_exceptions() > 0) {
-    std::filesystem::remove(written, ec);
-    return;
-  }
-  std::filesystem::rename(written, vcd_file_->temp_path(), ec);
-  try {
-    if (ec) throw std::filesystem::filesystem_error("rename", written, ec);
-    vcd_file_->commit();
-  } catch (const std::exception& e) {  // a destructor must not throw
-    std::fprintf(stderr, "rtusim: the RTL L1's VCD was not written: %s\n", e.what());
-  }
+  std::filesystem::remove(written, ec);  // the run failed: no partial output
 }
 
 // ---- Upstream: requests in, answers out ---------------------------------------------------

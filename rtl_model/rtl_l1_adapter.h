@@ -68,12 +68,13 @@ class RtlL1Adapter : public sc_core::sc_module, public NodeL1, public MemoryHori
   // `p`: geometry of a built combination (rtl/rtl_l1_registry.h, else InputError), mshrs 8,
   // hit_cycles 2 (CycleParams::finish checks). `vcd_path` non-empty: a VCD of clk and every
   // port signal (SystemC's tracer), written under a temporary name and renamed to `vcd_path`
-  // when the adapter is destroyed after a run that ended without an exception.
+  // by finish() (called when the run succeeded; otherwise the destructor removes it).
   // `idle_while_awaiting_fills` false: the clock also runs while only fills are awaited (it
   // stops only when no request is outstanding); for the test that stopping it changes nothing.
   RtlL1Adapter(const sc_core::sc_module_name& name, const L1Params& p,
                const std::string& vcd_path = "", bool idle_while_awaiting_fills = true);
-  ~RtlL1Adapter() override;
+  ~RtlL1Adapter() override;  // drops the VCD unless finish() committed it
+  void finish() override;    // closes the VCD and moves it into place
 
   SC_HAS_PROCESS(RtlL1Adapter);
 

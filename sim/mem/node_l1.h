@@ -45,6 +45,9 @@ class NodeL1 {
   // The downstream memory's next decision, for a model that must know which fills may still
   // come (the C++ L1); ignored by one that runs on its own clock.
   virtual void set_downstream_horizon(const MemoryHorizon*) {}
+  // The run succeeded: files the model writes (the RTL's VCD) go into place. Without this call
+  // they are dropped.
+  virtual void finish() {}
 };
 
 // Builds the RTL node L1 (SystemC module `name`, parameters `p`); `vcd_path` non-empty: a VCD of

@@ -74,6 +74,7 @@ CycleBackend::~CycleBackend() { top_.reset(); }
 
 void CycleBackend::finish() {
   if (vcd_) vcd_->commit();
+  top_->node_l1->finish();
 }
 
 void CycleBackend::make_current() const {

@@ -148,6 +148,7 @@ RunResult run(const SceneFixture& f, CycleParams p, const std::string& model, bo
     backend.trace(all.subspan(half), std::span<Hit>(r.hits).subspan(half));
     backend.write_stats(r.stats);
     r.cycles = backend.cycles();
+    backend.finish();  // the run succeeded: its files go into place
   }
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   register_rtl_node_l1(&make_rtl_adapter);
