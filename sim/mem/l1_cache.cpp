@@ -139,7 +139,6 @@ L1Cache::Outcome L1Cache::lookup(const Request& r, uint64_t c, uint64_t* answer_
   ++primary_;
   if (r.blocked_at != kUnknown) stall_cycles_ += c - r.blocked_at;
   Mshr& m = *free;
-  m.in_use = true;
   m.line = line;
   m.request_cycle = r.t;
   m.fill_cycle = kUnknown;
@@ -230,7 +229,7 @@ void L1Cache::fill(Mshr& m, uint64_t done_ps) {
       }
   }
   // The decidability rule (l1_cache.h) guarantees lookups never run ahead of a fill.
-  if (c <= next_lookup_ - 1 && next_lookup_ > 0)
+  if (c < next_lookup_)
     throw std::logic_error(std::string(name()) + ": a fill at cycle " + std::to_string(c) +
                            " became known after the lookup at cycle " +
                            std::to_string(next_lookup_ - 1) + " (the downstream decided late)");

@@ -99,14 +99,13 @@ class L1Cache : public sc_core::sc_module, public NodeL1, public MemoryHorizon {
     uint64_t blocked_at = kUnknown;   // first cycle it was refused for want of an MSHR
   };
   struct Mshr {
-    bool in_use = false;
     uint64_t line = 0;
-    uint64_t request_cycle = 0;      // the primary request's time
-    uint64_t fill_cycle = kUnknown;  // busy until here (unknown until the downstream answers)
+    uint64_t request_cycle = 0;  // the primary request's time
+    uint64_t fill_cycle = 0;     // busy until here (kUnknown until the downstream answers)
     std::vector<tlm::tlm_generic_payload*> waiters;  // answered at the fill
     tlm::tlm_generic_payload payload;  // the line read; owns its FetchTag
     FetchTag* tag = nullptr;
-    bool busy_at(uint64_t c) const { return in_use & (c < fill_cycle); }
+    bool busy_at(uint64_t c) const { return c < fill_cycle; }
   };
   enum class Outcome { kAnswered, kWaiting, kBlocked };
 

@@ -19,6 +19,7 @@ class EventWheel {
  public:
   static constexpr uint64_t kWheelCycles = 4096;
   static constexpr uint32_t kNone = ~uint32_t{0};
+  static constexpr uint32_t kSlotBits = 20;  // far events are packed as cycle << 20 | slot
 
   explicit EventWheel(uint32_t slots, bool slot_order = false)
       : slot_order_(slot_order),
@@ -32,7 +33,7 @@ class EventWheel {
     ++count_;
     if (next_ != kUnknown) next_ = std::min(next_, cycle);  // else found at the next peek
     if (cycle >= now_ + kWheelCycles) {
-      far_.push(cycle << 20 | slot);  // slots < 2^20
+      far_.push(cycle << kSlotBits | slot);  // slots < 2^kSlotBits
       return;
     }
     const uint64_t b = cycle & (kWheelCycles - 1);
@@ -58,7 +59,7 @@ class EventWheel {
   // Cycle of the next event (the queue must not be empty).
   uint64_t top_cycle() {
     if (next_ == kUnknown) {
-      const uint64_t far = far_.empty() ? ~uint64_t{0} : far_.top() >> 20;
+      const uint64_t far = far_.empty() ? ~uint64_t{0} : far_.top() >> kSlotBits;
       next_ = std::min(next_wheel_cycle(), far);
     }
     return next_;
@@ -69,12 +70,12 @@ class EventWheel {
     --count_;
     const uint64_t wheel = top_cycle();
     next_ = kUnknown;
-    if (!far_.empty() && (far_.top() >> 20) <= wheel) {
+    if (!far_.empty() && (far_.top() >> kSlotBits) <= wheel) {
       const uint64_t key = far_.top();
       far_.pop();
-      cycle = key >> 20;
+      cycle = key >> kSlotBits;
       now_ = cycle;
-      return static_cast<uint32_t>(key & ((1u << 20) - 1));
+      return static_cast<uint32_t>(key & ((uint64_t{1} << kSlotBits) - 1));
     }
     const uint64_t b = wheel & (kWheelCycles - 1);
     const uint32_t slot = head_[b];

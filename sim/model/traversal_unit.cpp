@@ -22,9 +22,10 @@ void validate(const UnitParams& p) {
   at_least_1(p.isect_interval_cycles, "isect.interval_cycles");
   at_least_1(p.node_line_bytes, "l1.line");
   at_least_1(p.data_line_bytes, "dcache.line");
-  if (p.rays_in_flight > (1u << TraversalUnit::kSlotBits))
+  constexpr uint32_t kMaxSlots = 1u << EventWheel::kSlotBits;  // 1048576
+  if (p.rays_in_flight > kMaxSlots)
     throw InputError("sim.rays_in_flight: " + std::to_string(p.rays_in_flight) +
-                     " is more than 1048576");
+                     " is more than " + std::to_string(kMaxSlots));
   if (p.stack_depth > TraversalState::kStackDepth)
     throw InputError("sim.stack_depth: " + std::to_string(p.stack_depth) + " is more than " +
                      std::to_string(TraversalState::kStackDepth) + " entries");
@@ -83,14 +84,15 @@ void TraversalUnit::run_batch() {
     const uint64_t h = horizon();
     // Arrivals before the events of their cycle; both only before the horizon. Taking an
     // arrival touches no memory component, so the horizon holds until an event is processed.
-    uint64_t next_event = events_.empty() ? ~uint64_t{0} : events_.top_cycle();
+    auto next_event_cycle = [&] { return events_.empty() ? ~uint64_t{0} : events_.top_cycle(); };
+    uint64_t next_event = next_event_cycle();
     while (!arrivals_.empty()) {
       uint64_t cycle = arrivals_.top_cycle();
       if (cycle > next_event || cycle * period_ >= h) break;
       const uint32_t slot = arrivals_.pop(cycle);
       last_cycle_ = std::max(last_cycle_, cycle);
       data_ready(slot, cycle);
-      next_event = events_.empty() ? ~uint64_t{0} : events_.top_cycle();
+      next_event = next_event_cycle();
     }
     if (next_event == ~uint64_t{0} || next_event * period_ >= h) {
       // Nothing to do before the memory acts on its own: let the kernel get there.

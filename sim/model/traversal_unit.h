@@ -57,8 +57,6 @@ void validate(const UnitParams& p);
 
 class TraversalUnit : public sc_core::sc_module {
  public:
-  static constexpr uint32_t kSlotBits = 20;  // a slot index: sim.rays_in_flight <= 2^20
-
   tlm_utils::simple_initiator_socket<TraversalUnit> node_socket;  // to the node L1
   tlm_utils::simple_initiator_socket<TraversalUnit> data_socket;  // lists + triangles
 

@@ -25,6 +25,16 @@ struct RtlL1Build {
   uint32_t line_bytes;
   std::string_view policy;  // "lru" or "tree-plru"
   std::string_view model;   // Verilated class name, e.g. "Vl1_8192_4_64_lru"
+
+  // The behavioural cache of the same geometry and policy (its C++ twin).
+  CacheParams cache() const {
+    CacheParams p;
+    p.size_bytes = size_bytes;
+    p.assoc = assoc;
+    p.line_bytes = line_bytes;
+    p.policy = std::string(policy);
+    return p;
+  }
 };
 
 // Every built combination, in RTUSIM_RTL_L1_BUILDS order (empty when the RTL is not built).

@@ -23,15 +23,6 @@
 namespace rtusim::rtltest {
 namespace {
 
-CacheParams params_of(const RtlL1Build& b) {
-  CacheParams p;
-  p.size_bytes = b.size_bytes;
-  p.assoc = b.assoc;
-  p.line_bytes = b.line_bytes;
-  p.policy = std::string(b.policy);
-  return p;
-}
-
 std::string build_name(const RtlL1Build& b) {
   std::string s = std::to_string(b.size_bytes) + "_" + std::to_string(b.assoc) + "_" +
                   std::to_string(b.line_bytes) + "_" + std::string(b.policy);
@@ -45,7 +36,7 @@ std::vector<Outcome> expect_lockstep(const RtlL1Build& b, const std::vector<uint
   auto rtl = make_cpp_model(std::string(b.model));
   EXPECT_TRUE(rtl) << "no C++ model for " << b.model;
   if (!rtl) return {};
-  SetAssocCache ref(params_of(b));
+  SetAssocCache ref(b.cache());
   std::vector<Outcome> out;
   rtl->replay_blocking(trace, out);
   EXPECT_EQ(out.size(), trace.size());

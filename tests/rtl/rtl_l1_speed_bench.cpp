@@ -29,11 +29,7 @@ int main(int argc, char** argv) {
   std::printf("%-22s %10s %12s %12s %12s %9s\n", "build", "misses", "rtl_acc/s", "rtl_cyc/s",
               "cpp_acc/s", "cpp/rtl");
   for (const RtlL1Build& b : rtl_l1_builds()) {
-    CacheParams p;
-    p.size_bytes = b.size_bytes;
-    p.assoc = b.assoc;
-    p.line_bytes = b.line_bytes;
-    p.policy = std::string(b.policy);
+    const CacheParams p = b.cache();
     std::vector<double> rtl_rate, rtl_cycles, cpp_rate;
     uint64_t rtl_misses = 0, cpp_misses = 0;
     for (int r = 0; r < runs; ++r) {

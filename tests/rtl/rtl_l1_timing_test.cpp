@@ -43,15 +43,6 @@ struct Lookup {
   uint32_t mshr;
 };
 
-CacheParams params_of(const RtlL1Build& b) {
-  CacheParams p;
-  p.size_bytes = b.size_bytes;
-  p.assoc = b.assoc;
-  p.line_bytes = b.line_bytes;
-  p.policy = std::string(b.policy);
-  return p;
-}
-
 std::string test_name(const testing::TestParamInfo<RtlL1Build>& i) {
   std::string s(i.param.model);
   std::replace(s.begin(), s.end(), '-', '_');
@@ -354,7 +345,7 @@ class RtlL1Builds : public testing::TestWithParam<RtlL1Build> {};
 
 // Spec item 3: a merge into a pending line that the tags evicted meanwhile installs it again.
 TEST_P(RtlL1Builds, AMergeInstallsItsPendingLineAgainAfterAnEviction) {
-  const CacheParams p = params_of(GetParam());
+  const CacheParams p = GetParam().cache();
   Bench b(p, 5);
   SetAssocCache shadow(p);
   uint32_t latency = 5;
@@ -403,7 +394,7 @@ TEST_P(RtlL1Builds, AMergeInstallsItsPendingLineAgainAfterAnEviction) {
 // set of MSHRs or a held hit, hits answered one edge after acceptance unless held, misses at
 // their MSHR's fill edge.
 TEST_P(RtlL1Builds, RandomTrafficMatchesTheSpec) {
-  const CacheParams p = params_of(GetParam());
+  const CacheParams p = GetParam().cache();
   Bench b(p);
   SetAssocCache shadow(p);
   std::mt19937_64 rng(42);

@@ -1,6 +1,7 @@
 #include "mem/dram/fr_fcfs_dram.h"
 
 #include <algorithm>
+#include <tuple>
 
 #include "cache/stream_caches.h"
 #include "util/stats.h"
@@ -43,18 +44,14 @@ void FrFcfsDram::advance(uint64_t now_ps, std::vector<DramCompletion>& out) {
       // FR-FCFS over the requests that can start now: row hits first, then age. Equal arrival
       // times go by address, so the order in which initiators happened to enqueue them (an
       // artefact of the simulation, not of the hardware) does not matter.
+      auto age = [](const Queued& x) { return std::tie(x.req.arrival_ps, x.req.addr, x.seq); };
       int best = -1;
       bool best_hit = false;
       for (size_t i = 0; i < c.queue.size(); ++i) {
         const Queued& q = c.queue[i];
         if (eligible_at(c, q) > now_ps) continue;
         const bool hit = c.banks[q.loc.bank].open_row == q.loc.row;
-        if (best < 0 || (hit && !best_hit) ||
-            (hit == best_hit && (q.req.arrival_ps < c.queue[best].req.arrival_ps ||
-                                 (q.req.arrival_ps == c.queue[best].req.arrival_ps &&
-                                  (q.req.addr < c.queue[best].req.addr ||
-                                   (q.req.addr == c.queue[best].req.addr &&
-                                    q.seq < c.queue[best].seq)))))) {
+        if (best < 0 || (hit && !best_hit) || (hit == best_hit && age(q) < age(c.queue[best]))) {
           best = static_cast<int>(i);
           best_hit = hit;
         }
