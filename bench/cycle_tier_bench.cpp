@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "bench_timing.h"
-#include "config/run_config.h"
+#include "app/run_config.h"
 #include "kdtree/sah_builder.h"
 #include "layout/layout.h"
 #include "layout/layout_dispatch.h"

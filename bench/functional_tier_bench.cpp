@@ -61,7 +61,7 @@ int main(int argc, char** argv) {
       NullFetchSink none;
       for (const RayRecord& ray : rays) checksum += traverse<Decoder>(image, ray.ray, ray.any_hit(), none).triangle;
       plain_s.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-      FetchCache caches(p.config.caches);
+      FetchCache caches(p.config.fetch_caches());
       t0 = std::chrono::steady_clock::now();
       caches.with_inlined_node_l1([&](auto& sink) {
         for (const RayRecord& ray : rays) checksum += traverse<Decoder>(image, ray.ray, ray.any_hit(), sink).triangle;

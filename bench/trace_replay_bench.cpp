@@ -18,7 +18,7 @@
 
 #include "app/pipeline.h"
 #include "cache/set_assoc_cache.h"
-#include "trace/node_stream_backend.h"
+#include "app/node_stream.h"
 #include "trace/trace_format.h"
 #include "util/error.h"
 #include "bench_timing.h"

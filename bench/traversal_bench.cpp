@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "bench_timing.h"
-#include "config/run_config.h"
+#include "app/run_config.h"
 #include "embree_scene.h"
 #include "kdtree/sah_builder.h"
 #include "layout/dfl_layout.h"

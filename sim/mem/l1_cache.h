@@ -45,21 +45,12 @@
 #include <tlm_utils/simple_target_socket.h>
 
 #include "cache/cache_params.h"
+#include "mem/l1_params.h"
 #include "cache/set_assoc_cache.h"
 #include "mem/mem_protocol.h"
 #include "mem/node_l1.h"
 
 namespace rtusim {
-
-struct L1Params {
-  CacheParams cache;              // geometry and replacement (l1.size/assoc/line/policy)
-  uint32_t hit_cycles = 2;        // tag + data access
-  uint32_t mshrs = 8;             // outstanding line misses
-  uint64_t clock_period_ps = 1000;
-};
-
-// Throws InputError naming `prefix`.hit_cycles / .mshrs / the cache keys.
-void validate(const L1Params& p, const std::string& prefix);
 
 class L1Cache : public sc_core::sc_module, public NodeL1, public MemoryHorizon {
  public:

@@ -11,26 +11,6 @@
 
 namespace rtusim {
 
-void validate(const UnitParams& p) {
-  auto at_least_1 = [](uint64_t v, const char* key) {
-    if (v == 0) throw InputError(std::string(key) + ": must be at least 1");
-  };
-  at_least_1(p.rays_in_flight, "sim.rays_in_flight");
-  at_least_1(p.clock_period_ps, "sim.clock_mhz");
-  at_least_1(p.stack_depth, "sim.stack_depth");
-  at_least_1(p.isect_lanes, "isect.lanes");
-  at_least_1(p.isect_interval_cycles, "isect.interval_cycles");
-  at_least_1(p.node_line_bytes, "l1.line");
-  at_least_1(p.data_line_bytes, "dcache.line");
-  constexpr uint32_t kMaxSlots = 1u << EventWheel::kSlotBits;  // 1048576
-  if (p.rays_in_flight > kMaxSlots)
-    throw InputError("sim.rays_in_flight: " + std::to_string(p.rays_in_flight) +
-                     " is more than " + std::to_string(kMaxSlots));
-  if (p.stack_depth > TraversalState::kStackDepth)
-    throw InputError("sim.stack_depth: " + std::to_string(p.stack_depth) + " is more than " +
-                     std::to_string(TraversalState::kStackDepth) + " entries");
-}
-
 namespace {
 const UnitParams& checked(const UnitParams& p) {
   validate(p);

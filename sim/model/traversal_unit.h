@@ -32,6 +32,7 @@
 #include "mem/mem_protocol.h"
 #include "model/event_wheel.h"
 #include "model/host_interface.h"
+#include "model/unit_params.h"
 #include "traversal/traversal.h"
 
 namespace rtusim {
@@ -40,20 +41,6 @@ class VcdWriter;
 
 class Stats;
 
-struct UnitParams {
-  uint32_t rays_in_flight = 32;
-  uint64_t clock_period_ps = 1000;
-  uint32_t step_cycles = 4;       // node arrival -> step decided
-  uint32_t stack_depth = 32;      // hardware stack entries per ray (steps deeper are counted)
-  uint32_t isect_lanes = 1;
-  uint32_t isect_latency_cycles = 20;
-  uint32_t isect_interval_cycles = 1;  // initiation interval per lane
-  uint32_t node_line_bytes = 64;  // node fetches are split at node L1 lines
-  uint32_t data_line_bytes = 64;  // list/triangle fetches: data cache lines or DRAM bursts
-};
-
-// Throws InputError naming the config key of a bad value.
-void validate(const UnitParams& p);
 
 class TraversalUnit : public sc_core::sc_module {
  public:

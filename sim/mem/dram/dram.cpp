@@ -1,13 +1,15 @@
 #include "mem/dram/dram.h"
 
-#include "mem/dram/fr_fcfs_dram.h"
+#include "mem/dram/dram_backends.h"
 
 #include <algorithm>
 
 namespace rtusim {
 
 Dram::Dram(const sc_core::sc_module_name& name, const DramParams& p)
-    : Dram(name, std::make_unique<FrFcfsDram>(p)) {}
+    : Dram(name, DramBackends::dispatch(p.backend, [&]<class B>() -> std::unique_ptr<DramBackend> {
+        return std::make_unique<B>(p);
+      })) {}
 
 Dram::Dram(const sc_core::sc_module_name& name, std::unique_ptr<DramBackend> backend)
     : sc_module(name), target_socket("target_socket"), backend_(std::move(backend)) {

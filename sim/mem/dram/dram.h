@@ -24,7 +24,7 @@ class Dram : public sc_core::sc_module, public MemoryHorizon {
  public:
   tlm_utils::multi_passthrough_target_socket<Dram> target_socket;
 
-  // The FR-FCFS model of dram_params.h (validated; errors name "dram.*").
+  // The timing model named by p.backend (dram_backends.h), validated; errors name "dram.*".
   Dram(const sc_core::sc_module_name& name, const DramParams& p);
   // Another timing model behind the same socket.
   Dram(const sc_core::sc_module_name& name, std::unique_ptr<DramBackend> backend);

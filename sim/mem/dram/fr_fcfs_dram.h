@@ -22,6 +22,8 @@ namespace rtusim {
 
 class FrFcfsDram final : public DramBackend {
  public:
+  static constexpr const char* kName = "fr-fcfs";
+
   // Validates `p` (keys named "dram.*").
   explicit FrFcfsDram(const DramParams& p);
 
