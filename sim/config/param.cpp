@@ -62,17 +62,16 @@ const ParamDecl* find_param(const std::string& key) {
 
 ParamDecl::ParamDecl(ParamInfo info) : info_(std::move(info)) { registry().push_back(this); }
 
-IntParam::IntParam(std::string key, int64_t fallback, int64_t min, int64_t max, std::string unit,
-                   std::string description)
-    : ParamDecl({std::move(key), ParamType::kInt, number_text(fallback), range_text(min, max),
-                 std::move(unit), std::move(description)}),
+template <class T>
+NumberParam<T>::NumberParam(std::string key, T fallback, T min, T max, std::string unit,
+                            std::string description)
+    : ParamDecl({std::move(key), std::is_integral_v<T> ? ParamType::kInt : ParamType::kFloat,
+                 number_text(fallback), range_text(min, max), std::move(unit),
+                 std::move(description)}),
       fallback_(fallback), min_(min), max_(max) {}
 
-FloatParam::FloatParam(std::string key, double fallback, double min, double max,
-                       std::string unit, std::string description)
-    : ParamDecl({std::move(key), ParamType::kFloat, number_text(fallback), range_text(min, max),
-                 std::move(unit), std::move(description)}),
-      fallback_(fallback), min_(min), max_(max) {}
+template class NumberParam<int64_t>;
+template class NumberParam<double>;
 
 BoolParam::BoolParam(std::string key, bool fallback, std::string description)
     : ParamDecl({std::move(key), ParamType::kBool, fallback ? "true" : "false", "", "",

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -49,28 +50,25 @@ class ParamDecl {
   ParamInfo info_;
 };
 
-class IntParam final : public ParamDecl {
+// An integer (T = int64_t) or a float (T = double) in [min, max].
+template <class T>
+class NumberParam final : public ParamDecl {
  public:
-  IntParam(std::string key, int64_t fallback, int64_t min, int64_t max, std::string unit,
-           std::string description);
-  int64_t read(ConfigReader& r) const { return r.get_int(key(), fallback_, min_, max_); }
+  NumberParam(std::string key, T fallback, T min, T max, std::string unit, std::string description);
+  T read(ConfigReader& r) const { return read(r, fallback_); }
   // With a default that depends on other keys (a DRAM preset).
-  int64_t read(ConfigReader& r, int64_t fallback) const { return r.get_int(key(), fallback, min_, max_); }
+  T read(ConfigReader& r, T fallback) const {
+    if constexpr (std::is_integral_v<T>)
+      return r.get_int(key(), fallback, min_, max_);
+    else
+      return r.get_float(key(), fallback, min_, max_);
+  }
 
  private:
-  int64_t fallback_, min_, max_;
+  T fallback_, min_, max_;
 };
-
-class FloatParam final : public ParamDecl {
- public:
-  FloatParam(std::string key, double fallback, double min, double max, std::string unit,
-             std::string description);
-  double read(ConfigReader& r) const { return r.get_float(key(), fallback_, min_, max_); }
-  double read(ConfigReader& r, double fallback) const { return r.get_float(key(), fallback, min_, max_); }
-
- private:
-  double fallback_, min_, max_;
-};
+using IntParam = NumberParam<int64_t>;
+using FloatParam = NumberParam<double>;
 
 class BoolParam final : public ParamDecl {
  public:

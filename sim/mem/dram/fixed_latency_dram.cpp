@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <tuple>
 
-#include "cache/stream_caches.h"
-#include "util/stats.h"
 
 namespace rtusim {
 
@@ -37,8 +35,7 @@ void FixedLatencyDram::advance(uint64_t now_ps, std::vector<DramCompletion>& out
           std::max<uint32_t>(1, (r.bytes + p_.burst_bytes() - 1) / p_.burst_bytes());
       const uint64_t done = std::max(r.arrival_ps + latency_ps_, c.bus_free_ps) + bursts * tBurst_ps_;
       c.bus_free_ps = done;
-      ++requests_;
-      bytes_[static_cast<int>(r.stream)] += r.bytes;
+      count(r);
       out.push_back({r.id, done});
     }
     c.queue.erase(c.queue.begin(), c.queue.begin() + static_cast<std::ptrdiff_t>(served));
@@ -47,13 +44,7 @@ void FixedLatencyDram::advance(uint64_t now_ps, std::vector<DramCompletion>& out
 }
 
 void FixedLatencyDram::write_stats(Stats& stats, const std::string& prefix) const {
-  stats.set(prefix + ".requests", requests_);
-  uint64_t total = 0;
-  for (int s = 0; s < 3; ++s) {
-    stats.set(prefix + ".bytes." + stream_stats_name(static_cast<Stream>(s)), bytes_[s]);
-    total += bytes_[s];
-  }
-  stats.set(prefix + ".bytes.total", total);
+  write_request_stats(stats, prefix);
 }
 
 }  // namespace rtusim

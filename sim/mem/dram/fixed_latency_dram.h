@@ -5,7 +5,6 @@
 //   done = max(arrival + latency, bus free) + bursts x tBurst;  bus free = done.
 // A rung below FR-FCFS on the accuracy ladder: the same bytes, a simpler time.
 #pragma once
-#include <array>
 #include <vector>
 
 #include "mem/dram/dram_backend.h"
@@ -25,7 +24,6 @@ class FixedLatencyDram final : public DramBackend {
   void advance(uint64_t now_ps, std::vector<DramCompletion>& out) override;
   // `prefix`.requests and .bytes.{nodes,lists,triangles,total}.
   void write_stats(Stats& stats, const std::string& prefix) const override;
-  uint64_t bytes(Stream s) const override { return bytes_[static_cast<int>(s)]; }
 
  private:
   struct Queued {
@@ -41,8 +39,7 @@ class FixedLatencyDram final : public DramBackend {
   uint64_t latency_ps_, tBurst_ps_;
   std::vector<Channel> channels_;
   uint64_t next_decision_ps_ = kNever;
-  uint64_t seq_ = 0, requests_ = 0;
-  std::array<uint64_t, 3> bytes_{};
+  uint64_t seq_ = 0;
 };
 
 }  // namespace rtusim
