@@ -40,7 +40,11 @@ void validate(const CycleParams& p) {
   validate(p.node_l1, "l1");
   if (p.data_cache) validate(*p.data_cache, "dcache");
   if (p.node_l1_model == "rtl") {
-    rtl_l1_build(p.node_l1.cache);  // InputError naming an unbuilt combination
+    try {
+      rtl_l1_build(p.node_l1.cache);  // InputError naming an unbuilt combination
+    } catch (const InputError& e) {
+      throw KeyError({"l1.model", "l1.size", "l1.assoc", "l1.line", "l1.policy"}, e);
+    }
     if (p.node_l1.mshrs != RtlL1Build::kMshrs)
       throw KeyError({"l1.mshrs", "l1.model"},
                      "l1.model = rtl: no RTL build for l1.mshrs=" + std::to_string(p.node_l1.mshrs) +

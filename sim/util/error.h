@@ -24,6 +24,9 @@ class KeyError : public InputError {
         keys(keys_involved),
         detail(detail_text) {}
   KeyError(const std::string& key, const std::string& detail_text) : KeyError({key}, detail_text) {}
+  // An InputError from elsewhere whose message already names its keys, with the keys involved.
+  KeyError(std::initializer_list<std::string> keys_involved, const InputError& e)
+      : InputError(e.what()), keys(keys_involved), detail(e.what()) {}
 
   std::vector<std::string> keys;
   std::string detail;
