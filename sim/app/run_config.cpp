@@ -127,8 +127,6 @@ RunConfig load_run_config(const std::string& path, const std::vector<std::string
     validate(c.cycle());
   } catch (const KeyError& e) {
     r.fail(e);
-  } catch (const InputError& e) {
-    throw InputError(path + ": " + e.what());
   }
 
   r.reject_unknown_keys();

@@ -25,6 +25,10 @@ const IntParam kDcacheMshrs("dcache.mshrs", kDefaults.mshrs, 1, 4096, "",
 
 void validate(const L1Params& p, const std::string& prefix) {
   validate(p.cache, prefix);
+  validate_timing(p, prefix);
+}
+
+void validate_timing(const L1Params& p, const std::string& prefix) {
   if (p.hit_cycles == 0) throw KeyError(prefix + ".hit_cycles", "must be at least 1");
   if (p.mshrs == 0) throw KeyError(prefix + ".mshrs", "must be at least 1");
   if (p.clock_period_ps == 0) throw KeyError("sim.clock_mhz", "must be positive");

@@ -27,6 +27,8 @@ struct L1Config {
 
 // Throws KeyError naming `prefix`.hit_cycles / .mshrs / the cache keys.
 void validate(const L1Params& p, const std::string& prefix);
+// The timing part only (the geometry is checked when read): hit_cycles, mshrs, the clock.
+void validate_timing(const L1Params& p, const std::string& prefix);
 
 // Reads the node L1's keys (l1.*), validated.
 L1Config read_node_l1_config(ConfigReader& r);

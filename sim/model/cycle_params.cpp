@@ -37,8 +37,8 @@ void CycleParams::finish() {
 void validate(const CycleParams& p) {
   if (!(p.clock_mhz > 0)) throw KeyError("sim.clock_mhz", "must be positive");
   validate(p.unit);
-  validate(p.node_l1, "l1");
-  if (p.data_cache) validate(*p.data_cache, "dcache");
+  validate_timing(p.node_l1, "l1");
+  if (p.data_cache) validate_timing(*p.data_cache, "dcache");
   if (p.node_l1_model == "rtl") {
     try {
       rtl_l1_build(p.node_l1.cache);  // InputError naming an unbuilt combination
@@ -58,7 +58,6 @@ void validate(const CycleParams& p) {
   } else if (p.node_l1_model != "cpp") {
     throw KeyError("l1.model", "must be cpp or rtl, not " + p.node_l1_model);
   }
-  validate(p.dram, "dram");
 }
 
 double read_clock_mhz(ConfigReader& r) { return kClockMhz.read(r); }
@@ -91,8 +90,6 @@ CycleParams read_cycle_params(ConfigReader& r) {
     validate(p);
   } catch (const KeyError& e) {
     r.fail(e);
-  } catch (const InputError& e) {
-    throw InputError(r.origin() + ": " + e.what());
   }
   return p;
 }

@@ -30,8 +30,9 @@ struct CycleParams {
   void finish();
 };
 
-// The checks across keys (clock, unit, L1 timing, the RTL L1's builds); each part's own values
-// are checked when read. Throws KeyError or InputError naming the key.
+// The checks across keys (clock, unit, L1 timing, the RTL L1's builds); the cache geometry and
+// the DRAM are checked when read (and by their modules on construction). Throws KeyError naming
+// the keys involved.
 void validate(const CycleParams& p);
 
 // The cycle tier's own keys.

@@ -27,24 +27,11 @@ struct TypeRegistry {
     ((t += (t.empty() ? "" : ", ") + std::string(Ts::kName)), ...);
     return t;
   }
-  // Position of `name` in the list (list size when absent).
-  static size_t index_of(std::string_view name) {
-    size_t i = 0, found = sizeof...(Ts);
-    ((found = (found == sizeof...(Ts) && name == Ts::kName) ? i : found, ++i), ...);
-    return found;
-  }
-
   // f.template operator()<T>() for the T called `name`; an unknown name is an internal error
   // (names are checked when the config is read).
   template <class F>
   static decltype(auto) dispatch(std::string_view name, F&& f) {
     return dispatch_from<F, Ts...>(name, f);
-  }
-
-  // Calls f.template operator()<T>() for every T, in list order.
-  template <class F>
-  static void for_each(F&& f) {
-    (f.template operator()<Ts>(), ...);
   }
 
   template <template <class> class W, class... Extra>
