@@ -35,6 +35,8 @@ std::string resolve_scene_path(const std::string& path, const std::string& base_
 
 namespace {
 
+const ImageParams kImage;
+const ReportParams kReport;
 const StringParam kScenePath("scene.path", "builtin:cornell", {}, "path",
                              "glTF file ($RTUSIM_SCENES/..., relative to the config) or "
                              "builtin:NAME");
@@ -44,13 +46,13 @@ const Vec3Param kEye("camera.eye", "", "scene units", "pinhole camera position (
 const Vec3Param kTarget("camera.target", "", "scene units", "point the camera looks at");
 const Vec3Param kUp("camera.up", "[0.0, 1.0, 0.0]", "", "camera up direction");
 const FloatParam kVfov("camera.vfov", 45.0, 1e-3, 179.0, "degrees", "vertical field of view");
-const IntParam kWidth("image.width", 256, 1, 16384, "pixels", "image width");
-const IntParam kHeight("image.height", 256, 1, 16384, "pixels", "image height");
-const BoolParam kPng("image.png", true, "write image.png, the rendered frame");
-const BoolParam kHeatmaps("image.heatmaps", true,
+const IntParam kWidth("image.width", kImage.width, 1, 16384, "pixels", "image width");
+const IntParam kHeight("image.height", kImage.height, 1, 16384, "pixels", "image height");
+const BoolParam kPng("image.png", kImage.write_png, "write image.png, the rendered frame");
+const BoolParam kHeatmaps("image.heatmaps", kImage.heatmaps,
                           "write per-layout DRAM-traffic heatmaps (functional tier)");
-const FloatParam kFramesPerSecond("report.frames_per_second", 30.0, 1e-6, 1e6, "frames/s",
-                                  "frame rate of the GB/s figures");
+const FloatParam kFramesPerSecond("report.frames_per_second", kReport.frames_per_second, 1e-6,
+                                  1e6, "frames/s", "frame rate of the GB/s figures");
 
 }  // namespace
 

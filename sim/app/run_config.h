@@ -36,10 +36,11 @@ struct LayoutParams {
   std::vector<std::string> kinds;  // layout.kind, one or more
 };
 
+// The sim.* keys of the run itself (defaults: their declarations in tier.cpp, cycle_params.cpp).
 struct SimParams {
-  std::string tier = "functional";  // sim.tier: one of tier_names()
-  double clock_mhz = 1000.0;        // sim.clock_mhz
-  std::string vcd_path;             // sim.vcd
+  std::string tier;        // sim.tier: one of tier_names()
+  double clock_mhz = 0.0;  // sim.clock_mhz
+  std::string vcd_path;    // sim.vcd
 };
 
 struct ReportParams {

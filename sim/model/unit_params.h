@@ -23,7 +23,7 @@ struct UnitParams {
 // Throws KeyError naming the config key of a bad value.
 void validate(const UnitParams& p);
 
-// Reads the keys above (clock and line sizes are derived later, by CycleParams::finish()).
+// Reads the keys above (clock and line sizes are derived later, by CycleParams::derive()).
 UnitParams read_unit_params(ConfigReader& r);
 
 }  // namespace rtusim
