@@ -61,7 +61,8 @@ struct L1Params {
 // Throws InputError naming `prefix`.hit_cycles / .mshrs / the cache keys.
 void validate(const L1Params& p, const std::string& prefix);
 
-class L1Cache : public sc_core::sc_module, public NodeL1, public MemoryHorizon {
+class L1Cache : public sc_core::sc_module, public NodeL1, public MemoryHorizon,
+                public CallDriven {
  public:
   tlm_utils::simple_target_socket<L1Cache> target_socket;        // from the unit
   tlm_utils::simple_initiator_socket<L1Cache> initiator_socket;  // to DRAM
@@ -88,6 +89,13 @@ class L1Cache : public sc_core::sc_module, public NodeL1, public MemoryHorizon {
   // The cycle of the first lookup not decided yet (the initiator must not run past it), or
   // never.
   uint64_t horizon_ps() const override;
+  // A module is never a const object: the horizon view hands out the module to drive.
+  CallDriven* call_driven() const override { return const_cast<L1Cache*>(this); }
+  void set_driven_by_call(bool on) override {
+    driven_by_call_ = on;
+    if (!on) schedule_wake();  // its process takes over from here
+  }
+  void act_at_horizon(uint64_t) override { advance(); }
   const SetAssocCache& tags() const { return tags_; }
   const L1Params& params() const { return p_; }
 
@@ -136,6 +144,7 @@ class L1Cache : public sc_core::sc_module, public NodeL1, public MemoryHorizon {
   std::deque<Request> queue_;     // not looked up yet, arrival order
   uint64_t next_lookup_ = 0;      // the port's next free cycle
   sc_core::sc_event wake_;
+  bool driven_by_call_ = false;  // the initiator calls act_at_horizon(): no wake-ups
   uint64_t hits_ = 0, primary_ = 0, merged_ = 0, stall_cycles_ = 0;
   uint64_t fills_ = 0, miss_latency_cycles_ = 0;
 };
