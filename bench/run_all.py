@@ -97,7 +97,7 @@ def main():
         for line in other:  # kdtree_build_bench: one line per scene, no reference
             m = re.match(r"(\S+)\s+tris\s+(\d+)\s+build_s\s+([\d.]+)", line)
             if m:
-                build_rows.append((m.group(1), m.group(2), m.group(3)))
+                build_rows.append((os.path.basename(m.group(1)), m.group(2), m.group(3)))
 
     model, cpus, avx512 = machine()
     md = [f"Benchmarks, {started}: {model}, {cpus} CPUs, AVX-512: "

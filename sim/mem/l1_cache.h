@@ -29,8 +29,8 @@
 // lookups still to decide. A request looked up at its own time is decided on arrival and, if
 // it is a hit or merges on a known fill, completes at once (TLM_COMPLETED, annotated time);
 // otherwise it gets BEGIN_RESP. A backlog (several requests in one cycle, a blocked port) is
-// decided by a method at its cycle, and the cache is a MemoryHorizon for the initiator
-// meanwhile.
+// decided by a method at its cycle (driven by call: by the initiator's call there), and the
+// cache is a MemoryHorizon for the initiator meanwhile.
 // Counters: hits, primary and merged misses, mshr_stall_cycles, and the mean primary miss
 // latency (fill cycle - request time t: port wait and stall included).
 #pragma once

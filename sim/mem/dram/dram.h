@@ -5,7 +5,8 @@
 // sc_time_stamp() + delay. A method wakes at each time a scheduling decision is due, lets the
 // backend decide, and sends BEGIN_RESP for every scheduled request with the delay to its
 // completion. The module is its own memory horizon: nothing happens here before the next
-// decision time.
+// decision time. Driven by call (CallDriven, mem_protocol.h), the method is not woken: the
+// initiator makes the decisions at the horizon itself, ahead of the kernel.
 #pragma once
 #include <memory>
 #include <vector>
