@@ -179,6 +179,7 @@ void L1Cache::advance() {
 }
 
 void L1Cache::schedule_wake() {
+  if (driven_by_call_) return;
   // An earlier notification overrides a pending later one.
   const uint64_t h = horizon_ps();
   if (h != kNever) wake_.notify(ps(h - std::min(h, now_ps())));
