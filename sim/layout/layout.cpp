@@ -1,19 +1,26 @@
 // Layout factory and the lists/triangles regions every layout shares.
 #include "layout/layout.h"
 
+#include "layout/cluster_layout.h"
 #include "layout/dfl_layout.h"
 #include "layout/odfl_layout.h"
+#include "layout/profile_layout.h"
 #include "layout/subtree_layout.h"
+#include "layout/veb_layout.h"
 #include "util/error.h"
 
 namespace rtusim {
 
-std::vector<std::string> layout_kinds() { return {"dfl", "odfl", "subtree"}; }
+std::vector<std::string> layout_kinds() { return {"dfl", "odfl", "subtree", "subtree-bfs", "veb", "cluster", "profile"}; }
 
 std::unique_ptr<Layout> make_layout(const std::string& kind) {
   if (kind == "dfl") return std::make_unique<DflLayout>();
   if (kind == "odfl") return std::make_unique<OdflLayout>();
   if (kind == "subtree") return std::make_unique<SubtreeLayout>();
+  if (kind == "subtree-bfs") return std::make_unique<SubtreeLayout>(false);
+  if (kind == "veb") return std::make_unique<VebLayout>();
+  if (kind == "cluster") return std::make_unique<ClusterLayout>();
+  if (kind == "profile") return std::make_unique<ProfileLayout>();
   std::string known;
   for (const auto& k : layout_kinds()) known += (known.empty() ? "" : ", ") + k;
   throw InputError("layout.kind: unknown layout '" + kind + "' (known: " + known + ")");

@@ -1,4 +1,5 @@
-// Ordinary subtree layout: clusters the logical tree top-down into five-node blocks.
+// Ordinary subtree layout: clusters the logical tree top-down into five-node blocks, full
+// ones (subtree) or one subtree per block (subtree-bfs).
 #include "layout/subtree_layout.h"
 
 #include <cstring>
@@ -11,7 +12,7 @@ namespace rtusim {
 
 MemoryImage SubtreeLayout::build_image(const KdTree& tree, const Scene& scene) const {
   MemoryImage image;
-  image.layout = "subtree";
+  image.layout = std::string(name());
   image.node_bytes = kNodeBytes;
 
   // Clustering: pop a block root, fill its block breadth-first, push what hangs below.
@@ -22,7 +23,13 @@ MemoryImage SubtreeLayout::build_image(const KdTree& tree, const Scene& scene) c
   while (!roots.empty()) {
     fill.assign(1, roots.back());
     roots.pop_back();
-    for (uint32_t slot = 0; slot < kNodesPerBlock && !fill.empty(); ++slot) {
+    for (uint32_t slot = 0; slot < kNodesPerBlock; ++slot) {
+      // Shared blocks: a block whose subtree runs out goes on with the next pending root.
+      if (fill.empty() && shared_blocks_ && !roots.empty()) {
+        fill.push_back(roots.back());
+        roots.pop_back();
+      }
+      if (fill.empty()) break;
       const uint32_t n = fill.front();
       fill.pop_front();
       ref_of[n] = static_cast<uint32_t>(blocks << kSlotBits) | slot;
@@ -34,7 +41,7 @@ MemoryImage SubtreeLayout::build_image(const KdTree& tree, const Scene& scene) c
     // Hanging nodes become the next blocks, the first of them placed first (depth first).
     roots.insert(roots.end(), fill.rbegin(), fill.rend());
     if (++blocks > (1u << (32 - 2 - kSlotBits)))
-      throw InputError("layout subtree: tree has " + std::to_string(tree.nodes.size()) +
+      throw InputError("layout " + std::string(name()) + ": tree has " + std::to_string(tree.nodes.size()) +
                        " nodes, more blocks than the 27-bit block index holds");
   }
 

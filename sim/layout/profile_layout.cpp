@@ -1,0 +1,87 @@
+// Profile-guided layout: visit counts of a training frame into the greedy block packer.
+#include "layout/profile_layout.h"
+
+#include <cmath>
+#include <unordered_map>
+
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
+
+#include "layout/dfl_layout.h"
+#include "layout/pair_node.h"
+#include "scene/pinhole_camera.h"
+#include "traversal/traversal.h"
+#include "tracer/whitted_tracer.h"
+
+namespace rtusim {
+namespace {
+
+// Traces batches over a DFL image and counts visits per logical node.
+class VisitCounter final : public TraceBackend {
+ public:
+  VisitCounter(const KdTree& tree, const MemoryImage& image)
+      : image_(image), node_at_slot_(tree.nodes.size()), visits_(tree.nodes.size(), 0) {
+    // DFL slot -> logical node, walking the image beside the tree.
+    std::vector<std::pair<uint32_t, uint64_t>> stack{{0u, image.root_addr}};
+    while (!stack.empty()) {
+      const auto [i, addr] = stack.back();
+      stack.pop_back();
+      node_at_slot_[(addr - image.nodes.base_addr) / DflLayout::kNodeBytes] = i;
+      const KdNode& n = tree.nodes[i];
+      if (n.is_leaf()) continue;
+      const NodeView v = DflLayout::decode(image, addr);
+      stack.push_back({n.below, v.below_addr});
+      stack.push_back({n.above, v.above_addr});
+    }
+  }
+  void trace(std::span<const RayRecord> rays, std::span<Hit> hits) override {
+    for (size_t i = 0; i < rays.size(); ++i)
+      hits[i] = traverse<DflLayout>(image_, rays[i].ray, rays[i].any_hit(), *this);
+  }
+  void fetch(Stream s, uint64_t addr, uint32_t) {
+    if (s == Stream::kNode)
+      ++visits_[node_at_slot_[(addr - image_.nodes.base_addr) / DflLayout::kNodeBytes]];
+  }
+  std::vector<uint64_t> take() { return std::move(visits_); }
+
+ private:
+  const MemoryImage& image_;
+  std::vector<uint32_t> node_at_slot_;
+  std::vector<uint64_t> visits_;
+};
+
+}  // namespace
+
+CameraDesc ProfileLayout::training_camera(const CameraDesc& camera) {
+  // Rodrigues' rotation of the eye about the target, around the up axis.
+  CameraDesc c = camera;
+  const glm::vec3 k = glm::normalize(camera.up);
+  const glm::vec3 v = camera.eye - camera.target;
+  const float a = glm::radians(kTrainingTurnDeg);
+  c.eye = camera.target + v * std::cos(a) + glm::cross(k, v) * std::sin(a) +
+          k * glm::dot(k, v) * (1.0f - std::cos(a));
+  c.name = camera.name + " (training)";
+  return c;
+}
+
+void ProfileLayout::train(const KdTree& tree, const Scene& scene, const CameraDesc& camera,
+                          const TracerParams& tracer) {
+  const MemoryImage dfl = DflLayout().build_image(tree, scene);
+  VisitCounter counter(tree, dfl);
+  WhittedTracer(scene, tracer, counter)
+      .render(PinholeCamera(training_camera(camera), kTrainingSize, kTrainingSize),
+              kTrainingSize, kTrainingSize);
+  visits_ = counter.take();
+}
+
+MemoryImage ProfileLayout::build_image(const KdTree& tree, const Scene& scene) const {
+  std::vector<double> priority = node_surface_areas(tree);
+  const double root_area = priority[0] > 0.0 ? priority[0] : 1.0;
+  for (uint32_t i = 0; i < priority.size(); ++i)
+    priority[i] = priority[i] / root_area + (i < visits_.size() ? double(visits_[i]) : 0.0);
+  uint64_t slots = 0;
+  const std::vector<uint32_t> slot_of = BlockCluster::pack(tree, priority, slots);
+  return BlockCluster::write(tree, scene, "profile", slot_of, slots);
+}
+
+}  // namespace rtusim

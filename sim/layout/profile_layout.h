@@ -1,0 +1,52 @@
+// Profile-guided layout: the block-cluster layout (layout/block_cluster.h) with the greedy
+// packer driven by measured visit counts instead of surface areas. The counts come from a
+// training frame that is not the frame measured: the run's camera turned about its target
+// (kTrainingTurnDeg about the camera's up axis), at kTrainingSize x kTrainingSize pixels, the
+// run's tracer settings, traced over a DFL image of the same tree.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "layout/block_cluster.h"
+#include "layout/layout.h"
+#include "layout/node_view.h"
+#include "scene/scene.h"
+#include "tracer/tracer_params.h"
+
+namespace rtusim {
+
+// Encoding: layout/block_cluster.h (8-byte nodes, 3-bit in-block child slots, global slots for
+// children outside the block); no node straddles a 64-byte block.
+// Placement: BlockCluster::pack with priority of node i = its visit count in the training
+// frame plus its surface-area probability (< 1, so it only orders nodes of equal count, e.g.
+// the ones the training frame never reached). Deterministic for given counts.
+class ProfileLayout final : public Layout {
+ public:
+  static constexpr uint32_t kNodeBytes = BlockCluster::kNodeBytes;
+  static constexpr float kTrainingTurnDeg = 20.0f;
+  static constexpr int kTrainingSize = 128;
+
+  ProfileLayout() = default;
+  // Visit counts per logical node (empty: none measured, surface areas alone decide).
+  explicit ProfileLayout(std::vector<uint64_t> visits) : visits_(std::move(visits)) {}
+
+  std::string_view name() const override { return "profile"; }
+  MemoryImage build_image(const KdTree& tree, const Scene& scene) const override;
+
+  // Measures the visit counts on the training frame of `camera` (see above).
+  void train(const KdTree& tree, const Scene& scene, const CameraDesc& camera,
+             const TracerParams& tracer);
+  const std::vector<uint64_t>& visits() const { return visits_; }
+
+  // The training camera: `camera` turned by kTrainingTurnDeg about its target.
+  static CameraDesc training_camera(const CameraDesc& camera);
+
+  static NodeView decode(const MemoryImage& image, uint64_t addr) {
+    return BlockCluster::decode(image, addr);
+  }
+
+ private:
+  std::vector<uint64_t> visits_;
+};
+
+}  // namespace rtusim
