@@ -21,11 +21,14 @@ namespace rtusim {
 
 // Clustering: top-down. A block takes its root, then fills breadth-first (children below before
 // above) until it holds five nodes or its subtree is exhausted; every node left hanging below
-// the block roots a new block. With shared blocks (subtree), a block whose subtree is exhausted
-// before it holds five nodes goes on breadth-first from the next pending block root (the next
-// block in the order below, usually a sibling's or a cousin's subtree), so every block but the
-// last is full; a small subtree may then continue in the next block. Blocks are numbered in depth-first pre-order of the block tree:
-// a block, then the blocks rooted at its hanging nodes in breadth-first order, each recursively.
+// the block roots a new block. With shared blocks (subtree), a hanging node whose whole subtree
+// has fewer than five nodes (one leaf, or a node with two leaves) does not root a block of its
+// own: the subtree goes whole, breadth-first, into the first of the last kSharedSearch shared
+// blocks it fits in (else a new one), shared blocks taking the small subtrees in the order they
+// come, so neighbours in the tree share. A subtree of five or more nodes fills its own block.
+// Blocks are numbered as they are opened: a block, then (shared blocks) the ones opened for its
+// small hanging subtrees, then the blocks rooted at its other hanging nodes in breadth-first
+// order, each recursively (depth-first pre-order of the block tree).
 // Within a block, slot s holds the s-th node of the breadth-first fill (slot 0 = block root).
 //
 // Node reference: ref = block << 3 | slot (slot 0..4), node address =
@@ -48,6 +51,7 @@ class SubtreeLayout final : public Layout {
   static constexpr uint32_t kBlockBytes = 64;
   static constexpr uint32_t kNodesPerBlock = kBlockBytes / kNodeBytes;  // 5
   static constexpr uint32_t kSlotBits = 3;
+  static constexpr size_t kSharedSearch = 8;  // shared blocks a small subtree may go into
   static_assert(kNodesPerBlock == 5 && kNodesPerBlock <= (1u << kSlotBits));
 
   // `shared_blocks`: fill every block (subtree); false: one subtree per block (subtree-bfs).
