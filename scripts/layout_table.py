@@ -28,8 +28,10 @@ SCENES = ["kitchen", "sponza_dabrovic", "cornell_whitted", "iridescent_dish",
 MARK_BEGIN, MARK_END = "<!-- layout-table -->", "<!-- /layout-table -->"
 
 
-def run(rtusim, scene, size, l1_bytes, out_dir, extra=()):
-    """One rtusim run of every layout; returns its stats."""
+def run(rtusim, scene, size, l1_bytes, out_dir, extra=(), reuse=False):
+    """One rtusim run of every layout; returns its stats (with reuse, an earlier run's)."""
+    if reuse and (out_dir / "stats.json").exists():
+        return json.loads((out_dir / "stats.json").read_text())
     kinds = ",".join(f'"{k}"' for k in LAYOUTS)
     cmd = [str(rtusim), "run", str(ROOT / "configs" / f"{scene}.toml"),
            "--set", f"layout.kind=[{kinds}]",
@@ -49,7 +51,7 @@ def pct(x, base):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--scenes", nargs="+", default=SCENES)
+    ap.add_argument("--scenes", nargs="*", default=SCENES)
     ap.add_argument("--size", type=int, default=512)
     ap.add_argument("--l1", nargs="+", type=int, default=[8192, 4096, 32768])
     ap.add_argument("--cycle", nargs="*", default=[], help="scenes for the cycle-tier table")
@@ -57,6 +59,8 @@ def main():
     ap.add_argument("--out", type=pathlib.Path, default=ROOT / "out" / "layouts")
     ap.add_argument("--rtusim", type=pathlib.Path, default=ROOT / "build" / "rtusim")
     ap.add_argument("--readme", action="store_true", help="put the table into README.md")
+    ap.add_argument("--reuse", action="store_true",
+                    help="take the stats of runs already in --out (same settings) instead of rerunning")
     args = ap.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)
 
@@ -64,7 +68,8 @@ def main():
     rows, stats = [], {}
     for scene in args.scenes:
         for l1 in args.l1:
-            s = run(args.rtusim, scene, args.size, l1, args.out / f"{scene}_l1_{l1}")
+            s = run(args.rtusim, scene, args.size, l1, args.out / f"{scene}_l1_{l1}",
+                    reuse=args.reuse)
             stats[(scene, l1)] = s
             for kind in LAYOUTS:
                 p = f"layout.{kind}."
@@ -75,8 +80,9 @@ def main():
                              "node_dram_bytes": s[p + "dram.bytes.nodes"], "cycles": ""})
     # Cycle tier: 32 rays in flight at the study's L1.
     for scene in args.cycle:
-        s = run(args.rtusim, scene, args.cycle_size, 8192, args.out / f"{scene}_cycle",
-                ["--set", 'sim.tier="cycle"', "--set", "sim.rays_in_flight=32"])
+        s = run(args.rtusim, scene, args.cycle_size, 8192,
+                args.out / f"{scene}_cycle_{args.cycle_size}",
+                ["--set", 'sim.tier="cycle"', "--set", "sim.rays_in_flight=32"], args.reuse)
         stats[(scene, "cycle")] = s
         for kind in LAYOUTS:
             p = f"layout.{kind}."
@@ -86,6 +92,9 @@ def main():
                          "node_dram_bytes": s[p + "dram.bytes.nodes"],
                          "cycles": s[p + "sim.cycles"]})
 
+    if not rows:
+        print("nothing to tabulate: give --scenes or --cycle", file=sys.stderr)
+        return 2
     with open(args.out / "layouts.csv", "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
         w.writeheader()
@@ -99,7 +108,7 @@ def main():
     for l1 in args.l1:
         head += f" {l1 // 1024} KB: node DRAM MB | vs DFL | vs ODFL |"
         rule += "---:|---:|---:|"
-    lines = [f"Node DRAM traffic per layout (functional tier; Whitted depth 4, {args.size}x"
+    lines = [] if not args.scenes else [f"Node DRAM traffic per layout (functional tier; Whitted depth 4, {args.size}x"
              f"{args.size}, recursive order, node L1 4-way / 64 B / LRU; vs = change of node "
              "DRAM bytes, negative = fewer). Written by `scripts/layout_table.py`.", "",
              head, rule]
@@ -114,7 +123,8 @@ def main():
                          f"{pct(b, node(scene, l1, 'odfl', 'dram.bytes.nodes'))} |")
             lines.append(line)
     if args.cycle:
-        lines += ["", f"Cycle tier, 32 rays in flight, {args.cycle_size}x{args.cycle_size}, "
+        lines += [] if not lines else [""]
+        lines += [f"Cycle tier, 32 rays in flight, {args.cycle_size}x{args.cycle_size}, "
                   "node L1 8 KB / 4-way / 64 B / LRU, DDR4-2400:", "",
                   "| scene | layout | cycles | vs ODFL | node DRAM MB | vs ODFL |",
                   "|---|---|---:|---:|---:|---:|"]

@@ -2,10 +2,10 @@
 #include "layout/block_cluster.h"
 
 #include <algorithm>
-#include <cstring>
 #include <queue>
 #include <stdexcept>
 
+#include "layout/node_word_writer.h"
 #include "util/error.h"
 
 namespace rtusim {
@@ -92,43 +92,28 @@ MemoryImage BlockCluster::write(const KdTree& tree, const Scene& scene, const st
   if (slots > kMaxSlots)
     throw InputError("layout " + name + ": tree has " + std::to_string(tree.nodes.size()) +
                      " nodes, more slots than the 25-bit node index holds");
-  MemoryImage image;
-  image.layout = name;
-  image.node_bytes = kNodeBytes;
-  image.nodes = {0, align_region(slots * kNodeBytes)};
-  std::vector<uint64_t> list_addr;
-  write_lists_and_triangles(tree, scene, image.nodes.end_addr(), image, list_addr);
-
-  for (uint32_t i = 0; i < tree.nodes.size(); ++i) {
+  std::vector<uint64_t> offset(slot_of.begin(), slot_of.end());
+  for (uint64_t& o : offset) o *= kNodeBytes;
+  return write_8_byte_nodes(tree, scene, name, slots * kNodeBytes, offset, [&](uint32_t i) {
     const KdNode& n = tree.nodes[i];
-    uint32_t w0, w1;
-    if (n.is_leaf()) {
-      w0 = (n.ref_count << 2) | 3u;
-      w1 = leaf_payload_word(tree, i, image, list_addr);
+    const uint32_t block = slot_of[i] / kSlotsPerBlock;
+    const uint32_t below = slot_of[n.below], above = slot_of[n.above];
+    const bool below_in = below / kSlotsPerBlock == block, above_in = above / kSlotsPerBlock == block;
+    const uint32_t below_local = below % kSlotsPerBlock, above_local = above % kSlotsPerBlock;
+    uint32_t w0;
+    if (below_in && above_in) {
+      w0 = (above_local << 7) | (below_local << 4) | (0u << 2);
+    } else if (below_in) {
+      w0 = (above << 7) | (below_local << 4) | (1u << 2);
+    } else if (above_in) {
+      w0 = (below << 7) | (above_local << 4) | (2u << 2);
     } else {
-      const uint32_t block = slot_of[i] / kSlotsPerBlock;
-      const uint32_t below = slot_of[n.below], above = slot_of[n.above];
-      const bool below_in = below / kSlotsPerBlock == block, above_in = above / kSlotsPerBlock == block;
-      const uint32_t below_local = below % kSlotsPerBlock, above_local = above % kSlotsPerBlock;
-      if (below_in && above_in) {
-        w0 = (above_local << 7) | (below_local << 4) | (0u << 2);
-      } else if (below_in) {
-        w0 = (above << 7) | (below_local << 4) | (1u << 2);
-      } else if (above_in) {
-        w0 = (below << 7) | (above_local << 4) | (2u << 2);
-      } else {
-        if (above != below + 1)
-          throw std::logic_error("layout " + name + ": hanging siblings not side by side");
-        w0 = (below << 4) | (3u << 2);
-      }
-      w0 |= n.axis;
-      std::memcpy(&w1, &n.split, sizeof(float));
+      if (above != below + 1)
+        throw std::logic_error("layout " + name + ": hanging siblings not side by side");
+      w0 = (below << 4) | (3u << 2);
     }
-    image.store<uint64_t>(image.nodes.base_addr + uint64_t{slot_of[i]} * kNodeBytes,
-                          (uint64_t{w1} << 32) | w0);
-  }
-  image.root_addr = image.nodes.base_addr + uint64_t{slot_of[0]} * kNodeBytes;
-  return image;
+    return w0 | n.axis;
+  });
 }
 
 }  // namespace rtusim

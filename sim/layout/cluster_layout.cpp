@@ -1,7 +1,7 @@
 // Probability-guided cluster layout: surface-area priorities into the greedy block packer.
 #include "layout/cluster_layout.h"
 
-#include "layout/pair_node.h"
+#include "layout/tree_measures.h"
 
 namespace rtusim {
 

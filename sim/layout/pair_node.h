@@ -18,13 +18,13 @@
 //     word1             0 triangles -> 0, 1 -> the triangle id, 2+ -> first list entry index
 #pragma once
 #include <cstdint>
-#include <cstring>
 #include <string>
 #include <vector>
 
 #include "layout/depth_first_writer.h"
 #include "layout/layout.h"
 #include "layout/node_view.h"
+#include "layout/node_word_writer.h"
 #include "util/error.h"
 
 namespace rtusim {
@@ -54,13 +54,6 @@ inline MemoryImage write_pair_image(const KdTree& tree, const Scene& scene,
   if (units > PairNode::kMaxUnits)
     throw InputError("layout " + name + ": tree has " + std::to_string(tree.nodes.size()) +
                      " nodes, more pair units than the 30-bit child index holds");
-  MemoryImage image;
-  image.layout = name;
-  image.node_bytes = PairNode::kNodeBytes;
-  image.nodes = {0, align_region(units * PairNode::kUnitBytes)};
-  std::vector<uint64_t> list_addr;
-  write_lists_and_triangles(tree, scene, image.nodes.end_addr(), image, list_addr);
-
   // Node offsets: the root at 0, every other node in its parent's pair unit.
   std::vector<uint64_t> offset(tree.nodes.size(), 0);
   for (uint32_t i = 0; i < tree.nodes.size(); ++i) {
@@ -69,36 +62,8 @@ inline MemoryImage write_pair_image(const KdTree& tree, const Scene& scene,
     offset[n.below] = uint64_t{unit_of[i]} * PairNode::kUnitBytes;
     offset[n.above] = offset[n.below] + PairNode::kNodeBytes;
   }
-  for (uint32_t i = 0; i < tree.nodes.size(); ++i) {
-    const KdNode& n = tree.nodes[i];
-    uint32_t w0, w1;
-    if (n.is_leaf()) {
-      w0 = (n.ref_count << 2) | 3u;
-      w1 = leaf_payload_word(tree, i, image, list_addr);
-    } else {
-      w0 = (unit_of[i] << 2) | n.axis;
-      std::memcpy(&w1, &n.split, sizeof(float));
-    }
-    image.store<uint64_t>(image.nodes.base_addr + offset[i], (uint64_t{w1} << 32) | w0);
-  }
-  image.root_addr = image.nodes.base_addr;
-  return image;
-}
-
-// Surface area of every node's box, from the tree's bounds down.
-inline std::vector<double> node_surface_areas(const KdTree& tree) {
-  std::vector<double> area(tree.nodes.size(), 0.0);
-  std::vector<std::pair<uint32_t, Bounds3f>> stack{{0u, tree.bounds}};
-  while (!stack.empty()) {
-    const auto [i, box] = stack.back();
-    stack.pop_back();
-    area[i] = box.surface_area();
-    const KdNode& n = tree.nodes[i];
-    if (n.is_leaf()) continue;
-    stack.push_back({n.below, KdTree::below_bounds(n, box)});
-    stack.push_back({n.above, KdTree::above_bounds(n, box)});
-  }
-  return area;
+  return write_8_byte_nodes(tree, scene, name, units * PairNode::kUnitBytes, offset,
+                            [&](uint32_t i) { return (unit_of[i] << 2) | tree.nodes[i].axis; });
 }
 
 }  // namespace rtusim

@@ -8,7 +8,7 @@
 #include <glm/trigonometric.hpp>
 
 #include "layout/dfl_layout.h"
-#include "layout/pair_node.h"
+#include "layout/tree_measures.h"
 #include "scene/pinhole_camera.h"
 #include "traversal/traversal.h"
 #include "tracer/whitted_tracer.h"

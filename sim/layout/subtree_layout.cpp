@@ -6,6 +6,7 @@
 #include <deque>
 #include <string>
 
+#include "layout/tree_measures.h"
 #include "util/error.h"
 
 namespace rtusim {
@@ -15,15 +16,7 @@ MemoryImage SubtreeLayout::build_image(const KdTree& tree, const Scene& scene) c
   image.layout = std::string(name());
   image.node_bytes = kNodeBytes;
 
-  // Nodes in each node's subtree, children before parents (reverse pre-order).
-  std::vector<uint32_t> size(tree.nodes.size(), 1), preorder{0};
-  preorder.reserve(tree.nodes.size());
-  for (size_t k = 0; k < preorder.size(); ++k)
-    if (!tree.nodes[preorder[k]].is_leaf())
-      preorder.insert(preorder.end(), {tree.nodes[preorder[k]].below, tree.nodes[preorder[k]].above});
-  for (auto it = preorder.rbegin(); it != preorder.rend(); ++it)
-    if (!tree.nodes[*it].is_leaf())
-      size[*it] += size[tree.nodes[*it].below] + size[tree.nodes[*it].above];
+  const std::vector<uint32_t> size = subtree_node_counts(tree);
 
   // Clustering: pop a block root, fill its block breadth-first, push what hangs below.
   std::vector<uint32_t> ref_of(tree.nodes.size());

@@ -18,6 +18,7 @@
 #include "layout/layout.h"
 #include "layout/layout_dispatch.h"
 #include "layout/pair_node.h"
+#include "layout/tree_measures.h"
 #include "layout/profile_layout.h"
 #include "layout/veb_layout.h"
 #include "median_kd_tree.h"
@@ -27,9 +28,6 @@
 
 namespace rtusim {
 namespace {
-
-using testing::build_median_kd_tree;
-using testing::random_soup;
 
 // Address of every logical node, walking the image from its root beside the tree; checks
 // that every node decodes to its logical node's fields.
@@ -59,17 +57,7 @@ std::vector<uint64_t> addresses(const MemoryImage& image, const KdTree& tree) {
   return addr_of;
 }
 
-struct Fixture {
-  Scene scene;
-  KdTree tree;
-};
-
-Fixture soup(uint32_t triangles, uint32_t leaf_prims, uint32_t seed) {
-  Fixture f;
-  f.scene = random_soup(triangles, seed);
-  f.tree = build_median_kd_tree(f.scene, leaf_prims, 20, seed + 1);
-  return f;
-}
+constexpr auto soup = testing::soup_tree;
 
 uint64_t interior_count(const KdTree& tree) {
   uint64_t n = 0;
@@ -90,7 +78,7 @@ std::vector<uint32_t> depths(const KdTree& tree) {
 }
 
 TEST(VebLayout, SiblingsShareAUnitAndTheTopHalfComesFirst) {
-  const Fixture f = soup(3000, 2, 51);
+  const testing::SoupTree f = soup(3000, 2, 51);
   const MemoryImage image = VebLayout().build_image(f.tree, f.scene);
   const std::vector<uint64_t> addr_of = addresses(image, f.tree);
   EXPECT_EQ(image.root_addr, image.nodes.base_addr);
@@ -116,7 +104,7 @@ TEST(VebLayout, SiblingsShareAUnitAndTheTopHalfComesFirst) {
 
 TEST(ClusterLayout, NodesStayInBlocksBlocksAreFullAndTheFirstIsTheGreedyTreelet) {
   for (uint32_t seed : {52u, 53u}) {
-    const Fixture f = soup(3000, seed == 52u ? 1u : 3u, seed);
+    const testing::SoupTree f = soup(3000, seed == 52u ? 1u : 3u, seed);
     const MemoryImage image = ClusterLayout().build_image(f.tree, f.scene);
     const std::vector<uint64_t> addr_of = addresses(image, f.tree);
     // 8-byte nodes at 8-byte offsets: none straddles a 64-byte block; almost no padding.
@@ -153,7 +141,7 @@ TEST(ClusterLayout, NodesStayInBlocksBlocksAreFullAndTheFirstIsTheGreedyTreelet)
 }
 
 TEST(ProfileLayout, DeterministicAndDrivenByItsCounts) {
-  const Fixture f = soup(3000, 2, 54);
+  const testing::SoupTree f = soup(3000, 2, 54);
   // Counts that favour the above children: the root's block follows the above spine.
   std::vector<uint64_t> visits(f.tree.nodes.size(), 0);
   std::vector<uint32_t> spine{0};
@@ -175,7 +163,7 @@ TEST(ProfileLayout, DeterministicAndDrivenByItsCounts) {
 }
 
 TEST(ProfileLayout, TrainingIsDeterministicAndUsesAnotherCamera) {
-  const Fixture f = soup(2000, 2, 55);
+  const testing::SoupTree f = soup(2000, 2, 55);
   CameraDesc cam;
   cam.eye = {0.5f, 0.5f, 3.0f};
   cam.target = {0.5f, 0.5f, 0.5f};

@@ -17,6 +17,7 @@
 #include "layout/layout_dispatch.h"
 #include "layout/odfl_layout.h"
 #include "layout/subtree_layout.h"
+#include "layout/tree_measures.h"
 #include "median_kd_tree.h"
 #include "traversal/traversal.h"
 #include "util/error.h"
@@ -24,21 +25,9 @@
 namespace rtusim {
 namespace {
 
-using testing::build_median_kd_tree;
-using testing::random_soup;
 
-// A scene with its tree: leaf sizes vary so that empty, inline and list leaves all occur.
-struct Fixture {
-  Scene scene;
-  KdTree tree;
-};
-
-Fixture make_fixture(uint32_t triangles, uint32_t leaf_prims, uint32_t seed) {
-  Fixture f;
-  f.scene = random_soup(triangles, seed);
-  f.tree = build_median_kd_tree(f.scene, leaf_prims, 20, seed + 1);
-  return f;
-}
+using Fixture = testing::SoupTree;
+constexpr auto make_fixture = testing::soup_tree;
 
 MemoryImage image_of(const std::string& kind, const Fixture& f) {
   return make_layout(kind)->build_image(f.tree, f.scene);
@@ -211,24 +200,12 @@ TEST(SubtreeLayout, BfsBlocksAreConnectedSubtreesOfAtMostFive) {
   }
 }
 
-// Subtree sizes of every node.
-std::vector<uint32_t> subtree_sizes(const KdTree& tree) {
-  std::vector<uint32_t> size(tree.nodes.size(), 1), order{0};
-  for (size_t k = 0; k < order.size(); ++k)
-    if (!tree.nodes[order[k]].is_leaf())
-      order.insert(order.end(), {tree.nodes[order[k]].below, tree.nodes[order[k]].above});
-  for (auto it = order.rbegin(); it != order.rend(); ++it)
-    if (!tree.nodes[*it].is_leaf())
-      size[*it] += size[tree.nodes[*it].below] + size[tree.nodes[*it].above];
-  return size;
-}
-
 TEST(SubtreeLayout, SharedBlocksHoldWholeSmallSubtreesAndBigOnesStartBlocks) {
   for (uint32_t seed : {23u, 24u}) {
     const Fixture f = make_fixture(3000, 2, seed);
     const MemoryImage image = image_of("subtree", f);
     const std::vector<uint64_t> addr_of = round_trip(image, f.tree);
-    const std::vector<uint32_t> size = subtree_sizes(f.tree);
+    const std::vector<uint32_t> size = subtree_node_counts(f.tree);
     auto block_of = [&](uint32_t i) { return (addr_of[i] - image.nodes.base_addr) / 64; };
     std::map<uint64_t, uint32_t> nodes_in;
     uint32_t small_roots = 0;
