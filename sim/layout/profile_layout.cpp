@@ -52,14 +52,25 @@ class VisitCounter final : public TraceBackend {
 
 }  // namespace
 
-CameraDesc ProfileLayout::training_camera(const CameraDesc& camera) {
-  // Rodrigues' rotation of the eye about the target, around the up axis.
-  CameraDesc c = camera;
+CameraDesc ProfileLayout::training_camera(const CameraDesc& camera, const Bounds3f& scene_box) {
+  // The pivot: on the view axis, as far ahead as the scene box's centre (the target when that
+  // is behind the eye), so the turned camera still looks at the scene at any scene scale.
+  const glm::vec3 f = glm::normalize(camera.target - camera.eye);
+  const glm::vec3 centre = 0.5f * (glm::vec3(scene_box.min[0], scene_box.min[1], scene_box.min[2]) +
+                                   glm::vec3(scene_box.max[0], scene_box.max[1], scene_box.max[2]));
+  const float ahead = glm::dot(centre - camera.eye, f);
+  const glm::vec3 pivot = ahead > 0.0f ? camera.eye + ahead * f : camera.target;
+  // Rodrigues' rotation of the eye and the target about the pivot, around the up axis.
   const glm::vec3 k = glm::normalize(camera.up);
-  const glm::vec3 v = camera.eye - camera.target;
   const float a = glm::radians(kTrainingTurnDeg);
-  c.eye = camera.target + v * std::cos(a) + glm::cross(k, v) * std::sin(a) +
-          k * glm::dot(k, v) * (1.0f - std::cos(a));
+  const auto turn = [&](const glm::vec3& p) {
+    const glm::vec3 v = p - pivot;
+    return pivot + v * std::cos(a) + glm::cross(k, v) * std::sin(a) +
+           k * glm::dot(k, v) * (1.0f - std::cos(a));
+  };
+  CameraDesc c = camera;
+  c.eye = turn(camera.eye);
+  c.target = turn(camera.target);
   c.name = camera.name + " (training)";
   return c;
 }
@@ -69,7 +80,7 @@ void ProfileLayout::train(const KdTree& tree, const Scene& scene, const CameraDe
   const MemoryImage dfl = DflLayout().build_image(tree, scene);
   VisitCounter counter(tree, dfl);
   WhittedTracer(scene, tracer, counter)
-      .render(PinholeCamera(training_camera(camera), kTrainingSize, kTrainingSize),
+      .render(PinholeCamera(training_camera(camera, tree.bounds), kTrainingSize, kTrainingSize),
               kTrainingSize, kTrainingSize);
   visits_ = counter.take();
 }

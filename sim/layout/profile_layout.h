@@ -1,8 +1,9 @@
 // Profile-guided layout: the block-cluster layout (layout/block_cluster.h) with the greedy
 // packer driven by measured visit counts instead of surface areas. The counts come from a
-// training frame that is not the frame measured: the run's camera turned about its target
-// (kTrainingTurnDeg about the camera's up axis), at kTrainingSize x kTrainingSize pixels, the
-// run's tracer settings, traced over a DFL image of the same tree.
+// training frame that is not the frame measured: the run's camera turned by kTrainingTurnDeg
+// about the camera's up axis, around the point of its view axis as far ahead as the scene box's
+// centre, at kTrainingSize x kTrainingSize pixels, the run's tracer settings, traced over a DFL
+// image of the same tree.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -38,8 +39,9 @@ class ProfileLayout final : public Layout {
              const TracerParams& tracer);
   const std::vector<uint64_t>& visits() const { return visits_; }
 
-  // The training camera: `camera` turned by kTrainingTurnDeg about its target.
-  static CameraDesc training_camera(const CameraDesc& camera);
+  // The training camera: `camera` turned by kTrainingTurnDeg around the point of its view axis
+  // as far ahead as the centre of `scene_box` (its target if that point is behind it).
+  static CameraDesc training_camera(const CameraDesc& camera, const Bounds3f& scene_box);
 
   static NodeView decode(const MemoryImage& image, uint64_t addr) {
     return BlockCluster::decode(image, addr);

@@ -167,9 +167,16 @@ TEST(ProfileLayout, TrainingIsDeterministicAndUsesAnotherCamera) {
   CameraDesc cam;
   cam.eye = {0.5f, 0.5f, 3.0f};
   cam.target = {0.5f, 0.5f, 0.5f};
-  const CameraDesc train = ProfileLayout::training_camera(cam);
+  const CameraDesc train = ProfileLayout::training_camera(cam, f.tree.bounds);
   EXPECT_GT(glm::length(train.eye - cam.eye), 0.1f);
-  EXPECT_NEAR(glm::length(train.eye - cam.target), glm::length(cam.eye - cam.target), 1e-4f);
+  // Turned around the view axis' point level with the scene centre: same distance to it, and
+  // the scene centre still in front of the camera.
+  const glm::vec3 centre = 0.5f * (glm::vec3(f.tree.bounds.min[0], f.tree.bounds.min[1], f.tree.bounds.min[2]) +
+                                   glm::vec3(f.tree.bounds.max[0], f.tree.bounds.max[1], f.tree.bounds.max[2]));
+  const glm::vec3 pivot = cam.eye + glm::dot(centre - cam.eye, glm::normalize(cam.target - cam.eye)) *
+                                        glm::normalize(cam.target - cam.eye);
+  EXPECT_NEAR(glm::length(train.eye - pivot), glm::length(cam.eye - pivot), 1e-4f);
+  EXPECT_GT(glm::dot(centre - train.eye, glm::normalize(train.target - train.eye)), 0.0f);
   ProfileLayout p1, p2;
   p1.train(f.tree, f.scene, cam, TracerParams{});
   p2.train(f.tree, f.scene, cam, TracerParams{});
