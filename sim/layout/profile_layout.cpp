@@ -1,6 +1,7 @@
 // Profile-guided layout: visit counts of a training frame into the greedy block packer.
 #include "layout/profile_layout.h"
 
+#include <algorithm>
 #include <cmath>
 #include <unordered_map>
 
@@ -53,13 +54,15 @@ class VisitCounter final : public TraceBackend {
 }  // namespace
 
 CameraDesc ProfileLayout::training_camera(const CameraDesc& camera, const Bounds3f& scene_box) {
-  // The pivot: on the view axis, as far ahead as the scene box's centre (the target when that
-  // is behind the eye), so the turned camera still looks at the scene at any scene scale.
+  // The pivot: on the view axis, at the target or, when the scene box's centre is nearer
+  // ahead (a small scene seen from afar), at the centre's depth, so the turned camera still
+  // looks at the scene.
   const glm::vec3 f = glm::normalize(camera.target - camera.eye);
   const glm::vec3 centre = 0.5f * (glm::vec3(scene_box.min[0], scene_box.min[1], scene_box.min[2]) +
                                    glm::vec3(scene_box.max[0], scene_box.max[1], scene_box.max[2]));
   const float ahead = glm::dot(centre - camera.eye, f);
-  const glm::vec3 pivot = ahead > 0.0f ? camera.eye + ahead * f : camera.target;
+  const float target_ahead = glm::length(camera.target - camera.eye);
+  const glm::vec3 pivot = camera.eye + (ahead > 0.0f ? std::min(ahead, target_ahead) : target_ahead) * f;
   // Rodrigues' rotation of the eye and the target about the pivot, around the up axis.
   const glm::vec3 k = glm::normalize(camera.up);
   const float a = glm::radians(kTrainingTurnDeg);

@@ -1,9 +1,11 @@
 // Profile-guided layout: the block-cluster layout (layout/block_cluster.h) with the greedy
 // packer driven by measured visit counts instead of surface areas. The counts come from a
 // training frame that is not the frame measured: the run's camera turned by kTrainingTurnDeg
-// about the camera's up axis, around the point of its view axis as far ahead as the scene box's
-// centre, at kTrainingSize x kTrainingSize pixels, the run's tracer settings, traced over a DFL
-// image of the same tree.
+// about the camera's up axis, around its target or, when the scene box's centre lies nearer
+// ahead, around the point of the view axis at the centre's depth; kTrainingSize x kTrainingSize
+// pixels, the run's tracer settings, traced over a DFL image of the same tree. The view
+// direction turns by kTrainingTurnDeg and the eye moves 2 sin(kTrainingTurnDeg / 2) times the
+// pivot distance (0.35 units for a glTF camera, whose target is 1 unit ahead).
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -39,8 +41,8 @@ class ProfileLayout final : public Layout {
              const TracerParams& tracer);
   const std::vector<uint64_t>& visits() const { return visits_; }
 
-  // The training camera: `camera` turned by kTrainingTurnDeg around the point of its view axis
-  // as far ahead as the centre of `scene_box` (its target if that point is behind it).
+  // The training camera: `camera` turned by kTrainingTurnDeg around its target, or around the
+  // point of its view axis level with the centre of `scene_box` if that is nearer ahead.
   static CameraDesc training_camera(const CameraDesc& camera, const Bounds3f& scene_box);
 
   static NodeView decode(const MemoryImage& image, uint64_t addr) {

@@ -169,14 +169,21 @@ TEST(ProfileLayout, TrainingIsDeterministicAndUsesAnotherCamera) {
   cam.target = {0.5f, 0.5f, 0.5f};
   const CameraDesc train = ProfileLayout::training_camera(cam, f.tree.bounds);
   EXPECT_GT(glm::length(train.eye - cam.eye), 0.1f);
-  // Turned around the view axis' point level with the scene centre: same distance to it, and
-  // the scene centre still in front of the camera.
+  // Turned around the target (1 unit ahead; the soup's centre is farther): same distance to
+  // it, the view turned by the training angle.
+  EXPECT_NEAR(glm::length(train.eye - cam.target), glm::length(cam.eye - cam.target), 1e-4f);
+  EXPECT_NEAR(glm::degrees(std::acos(glm::dot(glm::normalize(train.target - train.eye),
+                                              glm::normalize(cam.target - cam.eye)))),
+              ProfileLayout::kTrainingTurnDeg, 1e-2f);
+  // A target far beyond the scene: the pivot is at the scene's depth, so the turned camera
+  // still looks at the scene.
+  CameraDesc far = cam;
+  far.target = {0.5f, 0.5f, -20.0f};
+  const CameraDesc far_train = ProfileLayout::training_camera(far, f.tree.bounds);
   const glm::vec3 centre = 0.5f * (glm::vec3(f.tree.bounds.min[0], f.tree.bounds.min[1], f.tree.bounds.min[2]) +
                                    glm::vec3(f.tree.bounds.max[0], f.tree.bounds.max[1], f.tree.bounds.max[2]));
-  const glm::vec3 pivot = cam.eye + glm::dot(centre - cam.eye, glm::normalize(cam.target - cam.eye)) *
-                                        glm::normalize(cam.target - cam.eye);
-  EXPECT_NEAR(glm::length(train.eye - pivot), glm::length(cam.eye - pivot), 1e-4f);
-  EXPECT_GT(glm::dot(centre - train.eye, glm::normalize(train.target - train.eye)), 0.0f);
+  const glm::vec3 to_centre = glm::normalize(centre - far_train.eye);
+  EXPECT_GT(glm::dot(to_centre, glm::normalize(far_train.target - far_train.eye)), 0.999f);
   ProfileLayout p1, p2;
   p1.train(f.tree, f.scene, cam, TracerParams{});
   p2.train(f.tree, f.scene, cam, TracerParams{});
