@@ -16,15 +16,11 @@ namespace rtusim {
 // root's (the chance that a ray through the scene box visits i; within a block, proportional to
 // the chance relative to the block root). Blocks are full but for the rare padding slot, so
 // memory is within a few percent of DFL's.
-class ClusterLayout final : public Layout {
+// The decoder, decode(image, addr), is BlockCluster's.
+class ClusterLayout final : public Layout, public BlockCluster {
  public:
-  static constexpr uint32_t kNodeBytes = BlockCluster::kNodeBytes;
   std::string_view name() const override { return "cluster"; }
   MemoryImage build_image(const KdTree& tree, const Scene& scene) const override;
-
-  static NodeView decode(const MemoryImage& image, uint64_t addr) {
-    return BlockCluster::decode(image, addr);
-  }
 };
 
 }  // namespace rtusim

@@ -23,9 +23,9 @@ namespace rtusim {
 // Placement: BlockCluster::pack with priority of node i = its visit count in the training
 // frame plus its surface-area probability (< 1, so it only orders nodes of equal count, e.g.
 // the ones the training frame never reached). Deterministic for given counts.
-class ProfileLayout final : public Layout {
+// The decoder, decode(image, addr), is BlockCluster's.
+class ProfileLayout final : public Layout, public BlockCluster {
  public:
-  static constexpr uint32_t kNodeBytes = BlockCluster::kNodeBytes;
   static constexpr float kTrainingTurnDeg = 20.0f;
   static constexpr int kTrainingSize = 128;
 
@@ -44,10 +44,6 @@ class ProfileLayout final : public Layout {
   // The training camera: `camera` turned by kTrainingTurnDeg around its target, or around the
   // point of its view axis level with the centre of `scene_box` if that is nearer ahead.
   static CameraDesc training_camera(const CameraDesc& camera, const Bounds3f& scene_box);
-
-  static NodeView decode(const MemoryImage& image, uint64_t addr) {
-    return BlockCluster::decode(image, addr);
-  }
 
  private:
   std::vector<uint64_t> visits_;

@@ -17,15 +17,11 @@ namespace rtusim {
 // out first, then every subtree hanging below them, below before above, each recursively with
 // the heights that remain; unit 0 (the root's) comes first. Memory: DFL's plus 8 bytes, rounded
 // up to 64 bytes. No block size enters the placement.
-class VebLayout final : public Layout {
+// The decoder, decode(image, addr), is PairNode's.
+class VebLayout final : public Layout, public PairNode {
  public:
-  static constexpr uint32_t kNodeBytes = PairNode::kNodeBytes;
   std::string_view name() const override { return "veb"; }
   MemoryImage build_image(const KdTree& tree, const Scene& scene) const override;
-
-  static NodeView decode(const MemoryImage& image, uint64_t addr) {
-    return PairNode::decode(image, addr);
-  }
 };
 
 }  // namespace rtusim
