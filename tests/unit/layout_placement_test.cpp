@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstring>
 #include <filesystem>
+#include <iostream>
 #include <map>
 #include <random>
 #include <set>
@@ -270,6 +271,25 @@ TEST(LayoutsOnSharedScenes, SameHitsAndVisitsAsDfl) {
       }
     }
     EXPECT_GT(hits, rays.size() / 4);
+  }
+}
+
+// The aim for subtree: node memory at most 1.7x DFL's on the shared scenes big enough to fill
+// blocks (box's tree has a handful of nodes; its few blocks cannot all be full).
+TEST(LayoutsOnSharedScenes, SubtreeWithinTheMemoryAim) {
+  namespace fs = std::filesystem;
+  const std::string dir = RTUSIM_SCENES_DEFAULT;
+  if (!fs::is_directory(dir)) GTEST_SKIP() << "no scenes folder " << dir;
+  for (const std::string name : {"cornell_whitted", "kitchen", "sponza_dabrovic"}) {
+    const Scene scene = load_gltf(dir + "/" + name + "/" + name + ".gltf");
+    const KdTree tree = build_sah_kd_tree(scene, KdBuildParams{});
+    const MemoryImage dfl = make_layout("dfl")->build_image(tree, scene);
+    const MemoryImage sub = make_layout("subtree")->build_image(tree, scene);
+    const double ratio = double(sub.nodes.size_bytes) / double(dfl.nodes.size_bytes);
+    const double fill = double(tree.nodes.size()) / double(sub.nodes.size_bytes / 64 * 5);
+    std::cout << "[ subtree  ] " << name << ": " << ratio << "x DFL, block fill " << fill << "\n";
+    EXPECT_LE(ratio, 1.7) << name;
+    EXPECT_GE(fill, 0.95) << name;
   }
 }
 
