@@ -3,7 +3,9 @@
 
 Whitted ray tracing, recursion depth 4, 512x512, recursive (single-ray depth-first) order, SAH
 kd-tree, a node L1 of 8 KB / 4-way / 64 B blocks; DFL, ODFL and the ordinary subtree layout over
-the same rays. Writes study.csv and study.md (node DRAM bytes per layout, ODFL's reduction against
+the same rays. The subtree layout is the study's: five 12-byte nodes per 64-byte block, blocks full
+(small subtrees share blocks); subtree-bfs, our earlier one-subtree-per-block clustering, is shown
+beside it. Writes study.csv and study.md (node DRAM bytes per layout, ODFL's reduction against
 DFL and against subtree, node memory per layout) beside the study's published figures.
 
 Usage: scripts/study_experiment.py [--scenes kitchen sponza_dabrovic ...] [--size 512]
@@ -17,13 +19,13 @@ import subprocess
 import sys
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
-LAYOUTS = ["dfl", "odfl", "subtree"]
+LAYOUTS = ["dfl", "odfl", "subtree", "subtree-bfs"]
 STUDY = {"odfl_vs_dfl": "15-30%", "odfl_vs_subtree": "10-21%", "subtree_memory": "~40% more"}
 
 
 def run_scene(rtusim, scene, size, out_dir):
     cmd = [str(rtusim), "run", str(ROOT / "configs" / f"{scene}.toml"),
-           "--set", 'layout.kind=["dfl","odfl","subtree"]',
+           "--set", "layout.kind=[" + ",".join(f'"{k}"' for k in LAYOUTS) + "]",
            "--set", f"image.width={size}", "--set", f"image.height={size}",
            "--set", "tracer.max_depth=4", "--set", "tracer.ray_order=recursive",
            "--set", "l1.size=8192", "--set", "l1.assoc=4", "--set", "l1.line=64",
@@ -67,19 +69,22 @@ def main():
     lines = [
         f"# ODFL vs DFL vs subtree: node DRAM traffic (Whitted depth 4, {args.size}x{args.size}, "
         "recursive order, L1 8 KB / 4-way / 64 B, LRU)", "",
-        "| scene | triangles | rays | node DRAM MB: DFL | ODFL | subtree | ODFL vs DFL | "
-        "ODFL vs subtree | node memory KB: DFL | ODFL | subtree | subtree / DFL memory |",
-        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+        "| scene | triangles | rays | node DRAM MB: DFL | ODFL | subtree | subtree-bfs | "
+        "ODFL vs DFL | ODFL vs subtree | node memory KB: DFL | ODFL | subtree | "
+        "subtree / DFL memory | subtree-bfs / DFL memory |",
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for scene in args.scenes:
-        d, o, t = (by[(scene, k)] for k in LAYOUTS)
+        d, o, t, b = (by[(scene, k)] for k in LAYOUTS)
         red_dfl = 1 - o["node_dram_bytes"] / d["node_dram_bytes"]
         red_sub = 1 - o["node_dram_bytes"] / t["node_dram_bytes"]
         lines.append(
             f"| {scene} | {d['triangles']:,} | {d['rays']:,} | {d['node_dram_bytes']/1e6:.1f} | "
             f"{o['node_dram_bytes']/1e6:.1f} | {t['node_dram_bytes']/1e6:.1f} | "
+            f"{b['node_dram_bytes']/1e6:.1f} | "
             f"{-100*red_dfl:+.1f}% | {-100*red_sub:+.1f}% | {d['node_memory_bytes']/1024:.0f} | "
             f"{o['node_memory_bytes']/1024:.0f} | {t['node_memory_bytes']/1024:.0f} | "
-            f"{t['node_memory_bytes']/d['node_memory_bytes']:.2f}x |")
+            f"{t['node_memory_bytes']/d['node_memory_bytes']:.2f}x | "
+            f"{b['node_memory_bytes']/d['node_memory_bytes']:.2f}x |")
     lines += ["", f"The study (Nah et al. 2010, Kitchen / Fairy Forest / Sponza): ODFL needs "
               f"{STUDY['odfl_vs_dfl']} less node bandwidth than DFL and {STUDY['odfl_vs_subtree']} "
               f"less than the ordinary subtree layout, which needs {STUDY['subtree_memory']} memory.",

@@ -3,8 +3,10 @@
 
 #include <chrono>
 
+#include "app/profile_training.h"
 #include "kdtree/sah_builder.h"
 #include "layout/layout.h"
+#include "layout/profile_layout.h"
 #include "scene/load_scene.h"
 #include "util/error.h"
 
@@ -39,8 +41,12 @@ Prepared prepare_run(const std::string& config_path, const std::vector<std::stri
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   p.camera = select_camera(p.config, p.scene);
   p.tree = build_sah_kd_tree(p.scene, p.config.kdtree);
-  for (const auto& kind : p.config.layout.kinds)
-    p.images.push_back(make_layout(kind)->build_image(p.tree, p.scene));
+  for (const auto& kind : p.config.layout.kinds) {
+    const std::unique_ptr<Layout> layout = make_layout(kind);
+    if (auto* profile = dynamic_cast<ProfileLayout*>(layout.get()))
+      profile->set_visits(profile_training_visits(p.tree, p.scene, p.camera, p.config.tracer));
+    p.images.push_back(layout->build_image(p.tree, p.scene));
+  }
   return p;
 }
 

@@ -5,11 +5,16 @@
 #pragma once
 #include "layout/dfl_layout.h"
 #include "layout/odfl_layout.h"
+#include "layout/cluster_layout.h"
+#include "layout/profile_layout.h"
+#include "layout/subtree_bfs_layout.h"
 #include "layout/subtree_layout.h"
+#include "layout/veb_layout.h"
 #include "util/type_registry.h"
 
 namespace rtusim {
 
-using Layouts = TypeRegistry<DflLayout, OdflLayout, SubtreeLayout>;
+using Layouts = TypeRegistry<DflLayout, OdflLayout, SubtreeLayout, SubtreeBfsLayout, VebLayout,
+                             ClusterLayout, ProfileLayout>;
 
 }  // namespace rtusim

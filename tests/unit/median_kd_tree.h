@@ -112,4 +112,18 @@ inline KdTree build_median_kd_tree(const Scene& scene, uint32_t leaf_prims, int 
   return tree;
 }
 
+// A random soup with its median tree: leaf sizes vary so that empty, inline and list leaves all
+// occur.
+struct SoupTree {
+  Scene scene;
+  KdTree tree;
+};
+
+inline SoupTree soup_tree(uint32_t triangles, uint32_t leaf_prims, uint32_t seed) {
+  SoupTree f;
+  f.scene = random_soup(triangles, seed);
+  f.tree = build_median_kd_tree(f.scene, leaf_prims, 20, seed + 1);
+  return f;
+}
+
 }  // namespace rtusim::testing

@@ -44,7 +44,7 @@ TEST(TypeRegistryTest, NamesAndDispatch) {
 }
 
 TEST(TypeRegistryTest, SeamRegistries) {
-  EXPECT_EQ(Layouts::names(), (std::vector<std::string>{"dfl", "odfl", "subtree"}));
+  EXPECT_EQ(Layouts::names(), (std::vector<std::string>{"dfl", "odfl", "subtree", "subtree-bfs", "veb", "cluster", "profile"}));
   EXPECT_EQ(ReplacementPolicies::names(),
             (std::vector<std::string>{"lru", "tree-plru", "fifo", "random"}));
   EXPECT_EQ(DramBackends::names(), (std::vector<std::string>{"fr-fcfs", "fixed"}));
