@@ -4,10 +4,13 @@
 #include <chrono>
 #include <cstring>
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 
 #include "model/cycle_backend.h"
+#include "sample/sampled_frame.h"
 #include "tier/functional_backend.h"
+#include "tier/interleaved_backend.h"
 #include "tier/progress_backend.h"
 
 namespace rtusim {
@@ -75,11 +78,28 @@ FrameResult render_timed(const Prepared& p, TraceBackend& backend, const std::st
   return frame;
 }
 
+// The functional tier's counters.
+void write_functional_stats(const FetchCache& c, Stats& s) {
+  s.set("traversal.node_fetches", c.stream(Stream::kNode).fetches);
+  s.set("traversal.list_fetches", c.stream(Stream::kList).fetches);
+  s.set("traversal.triangle_fetches", c.stream(Stream::kTriangle).fetches);
+  c.write_stats(s);
+}
+
 }  // namespace
 
 SimulationResult simulate(const Prepared& p) {
   SimulationResult result;
   const int w = p.config.image.width, h = p.config.image.height;
+  // Sampled simulation (sample.*): the same units for every layout.
+  std::optional<SampledFrame> sampler;
+  if (p.config.sample.active()) sampler.emplace(p.config.sample, w, h);
+  auto render = [&](TraceBackend& backend, const SampledFrame::Snapshot& snapshot,
+                    const std::string& label, double& seconds) {
+    if (!sampler) return render_timed(p, backend, label, seconds);
+    WhittedTracer tracer(p.scene, p.config.tracer, backend);
+    return sampler->render(tracer, PinholeCamera(p.camera, w, h), snapshot, label, seconds);
+  };
   for (const MemoryImage& image : p.images) {
     // The same rays for every layout: hits do not depend on the layout, so neither do rays.
     LayoutRun run;
@@ -88,14 +108,21 @@ SimulationResult simulate(const Prepared& p) {
     double seconds = 0.0;
     FrameResult frame;
     if (p.config.sim.tier == Tier::kFunctional) {
-      FunctionalBackend backend(image, p.config.caches, static_cast<uint32_t>(w * h));
-      frame = render_timed(p, backend, image.layout, seconds);
-      const FetchCache& c = backend.caches();
-      run.stats.set("traversal.node_fetches", c.stream(Stream::kNode).fetches);
-      run.stats.set("traversal.list_fetches", c.stream(Stream::kList).fetches);
-      run.stats.set("traversal.triangle_fetches", c.stream(Stream::kTriangle).fetches);
-      c.write_stats(run.stats);
-      run.pixel_dram_bytes = backend.pixel_dram_bytes();
+      auto run_functional = [&](auto& backend) {
+        const auto write = [&backend](Stats& s) { write_functional_stats(backend.caches(), s); };
+        frame = render(backend, write, image.layout, seconds);
+        write(run.stats);
+        run.pixel_dram_bytes = backend.pixel_dram_bytes();
+      };
+      const int in_flight = p.config.functional_rays_in_flight;
+      if (in_flight > 1) {
+        InterleavedBackend backend(image, p.config.caches, static_cast<uint32_t>(w * h), in_flight);
+        run_functional(backend);
+        run.stats.set("functional.rays_in_flight", in_flight);
+      } else {
+        FunctionalBackend backend(image, p.config.caches, static_cast<uint32_t>(w * h));
+        run_functional(backend);
+      }
     } else {
       // The cycle tier, and the rtl tier (the config set node_l1_model = "rtl"). One VCD per
       // layout when there are several.
@@ -106,10 +133,12 @@ SimulationResult simulate(const Prepared& p) {
                                                 vcd.extension().string())).string();
       }
       CycleBackend backend(image, cycle);
-      frame = render_timed(p, backend, image.layout, seconds);
+      frame = render(backend, [&backend](Stats& s) { backend.write_stats(s); }, image.layout,
+                     seconds);
       backend.write_stats(run.stats);
       backend.finish();
     }
+    if (sampler) sampler->finish_layout(frame, run.stats);
     if (!result.layouts.empty() &&
         (frame.rays_by_kind != result.frame.rays_by_kind ||
          std::memcmp(frame.radiance.data(), result.frame.radiance.data(),
@@ -125,6 +154,7 @@ SimulationResult simulate(const Prepared& p) {
   if (result.layouts.size() > 1)
     for (const LayoutRun& run : result.layouts)
       for (const auto& [k, v] : run.stats.values()) result.stats.set("layout." + run.kind + "." + k, v);
+  if (sampler) sampler->write_run_stats(result.stats);
   return result;
 }
 

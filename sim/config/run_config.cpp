@@ -6,6 +6,7 @@
 
 #include "cache/cache_config.h"
 #include "layout/layout.h"
+#include "tier/interleaved_backend.h"
 #include "util/error.h"
 
 #ifndef RTUSIM_SOURCE_DIR
@@ -111,6 +112,9 @@ RunConfig load_run_config(const std::string& path, const std::vector<std::string
   }
   if (c.cycle.node_l1_model == "rtl" && c.sim.tier == Tier::kFunctional)
     throw InputError(path + ": l1.model: \"rtl\" needs sim.tier = \"cycle\" or \"rtl\"");
+
+  c.sample = read_sample_params(r);
+  c.functional_rays_in_flight = read_functional_rays_in_flight(r);
 
   r.reject_unknown_keys();
   c.effective = r.effective();

@@ -11,6 +11,7 @@
 #include "cache/stream_caches.h"
 #include "kdtree/kd_tree.h"
 #include "model/cycle_params.h"
+#include "sample/sample_params.h"
 #include "scene/scene.h"
 #include "tracer/tracer_params.h"
 
@@ -53,6 +54,8 @@ struct RunConfig {
   FetchCacheParams caches;           // l1.*, dcache.*
   SimParams sim;
   CycleParams cycle;                 // sim.*, isect.*, l1.*, dcache.*, dram.* of the cycle tier
+  SampleParams sample;               // sample.*: sampled simulation
+  int functional_rays_in_flight = 1;  // functional.rays_in_flight: the interleaved mode
   toml::table effective;             // every key with the value used
 };
 

@@ -1,0 +1,55 @@
+// Interleaved functional mode: round-robin traversal steps over the rays in flight.
+#include "tier/interleaved_backend.h"
+
+#include "config/config_reader.h"
+#include "layout/layout_dispatch.h"
+#include "traversal/traversal.h"
+
+namespace rtusim {
+
+int read_functional_rays_in_flight(ConfigReader& r) {
+  return static_cast<int>(r.get_int("functional.rays_in_flight", 1, 1, 1 << 16));
+}
+
+InterleavedBackend::InterleavedBackend(const MemoryImage& image, const FetchCacheParams& caches,
+                                       uint32_t pixels, int rays_in_flight)
+    : image_(image), caches_(caches), pixel_dram_bytes_(pixels, 0),
+      rays_in_flight_(rays_in_flight) {}
+
+void InterleavedBackend::trace(std::span<const RayRecord> rays, std::span<Hit> hits) {
+  struct Slot {
+    TraversalState state;
+    size_t ray = 0;
+    bool busy = false;
+  };
+  std::vector<Slot> slots(std::min<size_t>(rays_in_flight_, rays.size()));
+  size_t next = 0;
+  auto start = [&](Slot& slot) {
+    slot.busy = next < rays.size();
+    if (!slot.busy) return;
+    slot.ray = next++;
+    traversal_begin(slot.state, image_, rays[slot.ray].ray, rays[slot.ray].any_hit());
+  };
+  for (Slot& slot : slots) start(slot);
+  caches_.with_inlined_node_l1([&](auto& sink) {
+    with_layout_decoder(image_, [&]<class Decoder>() {
+      size_t busy = slots.size();
+      while (busy > 0) {
+        for (Slot& slot : slots) {
+          if (!slot.busy) continue;
+          const uint32_t pixel = rays[slot.ray].pixel;
+          const uint64_t before = caches_.dram_bytes_total();
+          const StepKind step = traversal_step<Decoder>(slot.state, image_, sink);
+          if (pixel < pixel_dram_bytes_.size())
+            pixel_dram_bytes_[pixel] += caches_.dram_bytes_total() - before;
+          if (step != StepKind::kDone && !slot.state.done) continue;
+          hits[slot.ray] = slot.state.hit;
+          start(slot);
+          if (!slot.busy) --busy;
+        }
+      }
+    });
+  });
+}
+
+}  // namespace rtusim
