@@ -75,6 +75,7 @@ SampleParams tiles(double rate, SampleWarmup warmup) {
   s.method_name = "tiles";
   s.warmup = warmup;
   s.warmup_name = warmup == SampleWarmup::kNone ? "none" : "functional";
+  s.unit_pixels = 16;
   return s;
 }
 
@@ -84,7 +85,7 @@ bool have_scenes() {
 
 // The built-in room: a mirror and a glass sphere (heavy-tailed per-pixel cost).
 TEST(SamplingStability, CiCoversFullRunOnGlassAndMirrors) {
-  Prepared p = prepare("default", 96);
+  Prepared p = prepare("default", 192);
   const Stats full = simulate(p).stats;
   const Coverage c = coverage(p, tiles(0.1, SampleWarmup::kFunctional), full);
   EXPECT_GE(c.figure, 93);
@@ -94,7 +95,7 @@ TEST(SamplingStability, CiCoversFullRunOnGlassAndMirrors) {
 
 TEST(SamplingStability, CiCoversFullRunOnSponza) {
   if (!have_scenes()) GTEST_SKIP() << "no shared scenes";
-  Prepared p = prepare("sponza_dabrovic", 96);
+  Prepared p = prepare("sponza_dabrovic", 192);
   const Stats full = simulate(p).stats;
   const Coverage c = coverage(p, tiles(0.1, SampleWarmup::kFunctional), full);
   EXPECT_GE(c.figure, 93);
@@ -102,47 +103,56 @@ TEST(SamplingStability, CiCoversFullRunOnSponza) {
   EXPECT_GE(c.rays, 93);
 }
 
-TEST(SamplingStability, StratifiedRandomPixelsCover) {
-  Prepared p = prepare("default", 96);
-  const Stats full = simulate(p).stats;
-  SampleParams s;
-  s.rate = 0.1;
-  s.method = SampleMethod::kStratified;
-  s.method_name = "stratified";
-  s.warmup = SampleWarmup::kFunctional;
-  s.warmup_pixels = 16;
-  const Coverage c = coverage(p, s, full);
-  EXPECT_GE(c.figure, 93);
-  EXPECT_GE(c.paired, 93);
-}
-
 // Unwarmed units start with another unit's lines in the L1: more misses than in the full run,
-// a bias far beyond the estimates' spread, while warmed units show none of that size.
+// a bias far beyond the estimates' spread that costs the CIs their coverage; warmed units show
+// none of that size.
 TEST(SamplingStability, BiasWithoutWarmupShows) {
-  Prepared p = prepare("default", 96);
+  if (!have_scenes()) GTEST_SKIP() << "no shared scenes";
+  Prepared p = prepare("sponza_dabrovic", 192);
   const Stats full = simulate(p).stats;
   const double nodes = get(full, "layout.dfl.dram.bytes.nodes");
   const Coverage cold = coverage(p, tiles(0.1, SampleWarmup::kNone), full);
   const Coverage warm = coverage(p, tiles(0.1, SampleWarmup::kFunctional), full);
   const double se_cold = cold.sd_estimate / std::sqrt(double(kRuns));
-  const double se_warm = warm.sd_estimate / std::sqrt(double(kRuns));
   EXPECT_GT(cold.mean_estimate - nodes, 4.0 * se_cold);
-  EXPECT_LT(std::abs(warm.mean_estimate - nodes), std::abs(cold.mean_estimate - nodes));
-  EXPECT_LT(std::abs(warm.mean_estimate - nodes), 4.0 * se_warm);
-  EXPECT_LT(cold.figure, warm.figure);
+  EXPECT_LT(std::abs(warm.mean_estimate - nodes), std::abs(cold.mean_estimate - nodes) / 2);
+  EXPECT_LT(cold.figure, 90);
+  EXPECT_GE(warm.figure, 93);
+}
+
+// Pixels drawn at random with no warming: each starts in a cache of far-away lines, and the
+// estimate is several times the full run's (the method's failure without warming).
+TEST(SamplingStability, RandomPixelsWithoutWarmupFail) {
+  Prepared p = prepare("default", 128);
+  const Stats full = simulate(p).stats;
+  const double nodes = get(full, "layout.dfl.dram.bytes.nodes");
+  SampleParams s;
+  s.rate = 0.1;
+  s.method = SampleMethod::kRandom;
+  s.method_name = "random";
+  s.unit_pixels = 4;
+  s.warmup = SampleWarmup::kNone;
+  s.warmup_name = "none";
+  p.config.sample = s;
+  const Stats cold = simulate(p).stats;
+  std::printf("random pixels, no warming: estimate %.6g, full %.6g (%+.1f%%)\n",
+              get(cold, "layout.dfl.dram.bytes.nodes"), nodes,
+              100.0 * (get(cold, "layout.dfl.dram.bytes.nodes") / nodes - 1.0));
+  EXPECT_GT(get(cold, "layout.dfl.dram.bytes.nodes.ci95_low"), 1.5 * nodes);
+  EXPECT_EQ(cold.at("sample.warmup").get<std::string>(), "none");
 }
 
 // Too few units: said on stderr and in the stats; enough units: neither.
 TEST(SamplingStability, TooFewUnitsIsSaid) {
   Prepared p = prepare("default", 64);
-  p.config.sample = tiles(0.05, SampleWarmup::kFunctional);  // 128 units -> 6
+  p.config.sample = tiles(0.02, SampleWarmup::kFunctional);  // 256 units of 16 -> 5
   testing::internal::CaptureStderr();
   const Stats few = simulate(p).stats;
   const std::string err = testing::internal::GetCapturedStderr();
   EXPECT_FALSE(few.at("sample.ci_valid").get<bool>());
   EXPECT_NE(few.at("sample.problem").get<std::string>().find("sample.min_units"), std::string::npos);
   EXPECT_NE(err.find("not valid"), std::string::npos) << err;
-  EXPECT_EQ(few.at("sample.units").get<int>(), 6);
+  EXPECT_EQ(few.at("sample.units").get<int>(), 5);
 
   p.config.sample = tiles(0.5, SampleWarmup::kFunctional);
   testing::internal::CaptureStderr();
@@ -153,17 +163,23 @@ TEST(SamplingStability, TooFewUnitsIsSaid) {
 
 // A target CI: the run stops once reached, having simulated less than the frame, and says so.
 TEST(SamplingStability, TargetCiDoesOnlyTheNeededWork) {
-  Prepared p = prepare("default", 96);
+  Prepared p = prepare("default", 192);
   const Stats full = simulate(p).stats;
   p.config.sample = tiles(1.0, SampleWarmup::kFunctional);
-  p.config.sample.target_ci = 0.05;
+  p.config.sample.target_ci = 0.25;
   p.config.sample.target_key = "dram.bytes.nodes";
   const Stats s = simulate(p).stats;
   EXPECT_TRUE(s.at("sample.target_met").get<bool>());
-  EXPECT_LE(get(s, "layout.dfl.sample.achieved_ci"), 0.05);
-  EXPECT_LT(get(s, "sample.fraction"), 0.9);
+  EXPECT_LE(get(s, "layout.dfl.sample.achieved_ci"), 0.25);
+  EXPECT_LT(get(s, "sample.fraction"), 0.5);
+  EXPECT_GT(get(s, "sample.rounds"), 1);
   const double nodes = get(full, "layout.dfl.dram.bytes.nodes");
-  EXPECT_LT(std::abs(get(s, "layout.dfl.dram.bytes.nodes") / nodes - 1.0), 0.1);
+  EXPECT_LT(std::abs(get(s, "layout.dfl.dram.bytes.nodes") / nodes - 1.0), 0.5);
+  std::printf("target 25%%: %d units (%.1f%% of the frame) in %d rounds, achieved %.1f%%, "
+              "estimate %+.1f%% from the full run\n",
+              s.at("sample.units").get<int>(), 100 * get(s, "sample.fraction"),
+              s.at("sample.rounds").get<int>(), 100 * get(s, "layout.dfl.sample.achieved_ci"),
+              100 * (get(s, "layout.dfl.dram.bytes.nodes") / nodes - 1.0));
 }
 
 }  // namespace
