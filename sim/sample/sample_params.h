@@ -33,6 +33,7 @@ struct SampleParams {
   int unit_pixels = 32;     // pixels per sampling unit
   int strata = 4;           // stratified: the grid's side (strata = strata x strata blocks)
   int min_units = 30;       // fewer units than this: the CIs are flagged as not valid
+  std::string origin;       // the config file, for errors found while running
 
   bool active() const { return rate < 1.0 || target_ci > 0.0; }
 };

@@ -130,8 +130,8 @@ FrameResult SampledFrame::render(WhittedTracer& tracer, const PinholeCamera& cam
     trace_units(tracer, camera, snapshot, 0, n, frame, sample);
     rounds_.push_back(n);
     if (!params_.target_key.empty() && !sample.values.count(params_.target_key))
-      throw InputError("sample.target_key: '" + params_.target_key +
-                       "' is not an extensive figure of this tier (e.g. dram.bytes.nodes)");
+      throw InputError(params_.origin + ": sample.target_key: '" + params_.target_key +
+                       "' is not measured by this tier");
     while (params_.target_ci > 0.0 && n < cap) {
       const double w = widest_ci(sample).first;
       if (w <= params_.target_ci) break;
