@@ -24,7 +24,10 @@ def stats(rtusim, config, sets):
         cmd = [str(rtusim), "run", str(config), "--out", tmp]
         for s in sets:
             cmd += ["--set", s]
-        subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
+        r = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        if r.returncode != 0:
+            print(f"  failed: {' '.join(sets)}: {r.stderr.strip().splitlines()[0]}", flush=True)
+            return None
         return json.loads((pathlib.Path(tmp) / "stats.json").read_text())
 
 
@@ -35,6 +38,7 @@ def main():
     ap.add_argument("--layout", default="dfl")
     ap.add_argument("--in-flight", type=int, nargs="+", default=[1, 8, 32, 128])
     ap.add_argument("--out", type=pathlib.Path, default=ROOT / "docs")
+    ap.add_argument("--csv", default="interleave_bias.csv")
     ap.add_argument("--rtusim", type=pathlib.Path, default=ROOT / "build" / "rtusim")
     args = ap.parse_args()
     common = [f"image.width={args.size}", f"image.height={args.size}", "tracer.ray_order=wavefront",
@@ -45,6 +49,14 @@ def main():
         for n in args.in_flight:
             cycle = stats(args.rtusim, config, common + ["sim.tier=cycle", f"sim.rays_in_flight={n}"])
             inter = stats(args.rtusim, config, common + [f"functional.rays_in_flight={n}"])
+            if cycle is None:
+                rows.append({"scene": config.stem, "rays_in_flight": n, "cycle_node_bytes": "failed",
+                             "functional_node_bytes": functional["dram.bytes.nodes"],
+                             "functional_error": "", "interleaved_node_bytes": inter["dram.bytes.nodes"],
+                             "interleaved_error": "", "cycle_seconds": "",
+                             "interleaved_seconds": inter["trace.seconds"],
+                             "functional_seconds": functional["trace.seconds"]})
+                continue
             ref = cycle["dram.bytes.nodes"]
             rows.append({"scene": config.stem, "rays_in_flight": n, "cycle_node_bytes": ref,
                          "functional_node_bytes": functional["dram.bytes.nodes"],
@@ -56,13 +68,16 @@ def main():
                          "functional_seconds": functional["trace.seconds"]})
             print(rows[-1], flush=True)
     args.out.mkdir(parents=True, exist_ok=True)
-    with open(args.out / "interleave_bias.csv", "w", newline="") as f:
+    with open(args.out / args.csv, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
         w.writeheader()
         w.writerows(rows)
     print("| scene | rays in flight | cycle node MB | functional error | interleaved error |")
     print("|---|---:|---:|---:|---:|")
     for r in rows:
+        if r["cycle_node_bytes"] == "failed":
+            print(f"| {r['scene']} | {r['rays_in_flight']} | cycle tier failed | | |")
+            continue
         print(f"| {r['scene']} | {r['rays_in_flight']} | {r['cycle_node_bytes'] / 1e6:.2f} | "
               f"{100 * r['functional_error']:+.2f}% | {100 * r['interleaved_error']:+.2f}% |")
 
