@@ -11,7 +11,8 @@ class ConfigReader;
 enum class SampleMethod {
   kRandom,      // units of sample.unit_pixels pixels drawn at random from the whole frame
   kStratified,  // the same, drawn in proportion from a sample.strata x sample.strata grid of blocks
-  kTiles,       // units of sample.unit_pixels adjacent pixels of one row (the scan order's coherence)
+  kTiles,       // units of sample.unit_pixels adjacent pixels of one row (the scan order's
+                // coherence), drawn in proportion from the same grid's blocks
 };
 
 enum class SampleWarmup {
@@ -31,7 +32,8 @@ struct SampleParams {
   std::string warmup_name = "functional";
   int warmup_pixels = 64;   // pixels traced unmeasured before each run of a unit's pixels
   int unit_pixels = 32;     // pixels per sampling unit
-  int strata = 4;           // stratified: the grid's side (strata = strata x strata blocks)
+  int strata = 1;           // the strata grid's side (strata x strata blocks); the stratified
+                            // method's default is 4
   int min_units = 30;       // fewer units than this: the CIs are flagged as not valid
   std::string origin;       // the config file, for errors found while running
 

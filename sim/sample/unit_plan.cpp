@@ -30,20 +30,22 @@ UnitPlan make_unit_plan(const SampleParams& params, int width, int height) {
   UnitPlan plan;
   std::mt19937_64 rng(params.seed);
   const int g = params.unit_pixels;
+  // Strata: the blocks of a k x k grid (k = 1 for random).
+  const int k = params.method == SampleMethod::kRandom
+                    ? 1
+                    : std::max(1, std::min({params.strata, width, height}));
   if (params.method == SampleMethod::kTiles) {
-    // Row segments: adjacent in the full frame's scan order, so a unit keeps its coherence.
+    // Row segments: adjacent in the full frame's scan order, so a unit keeps its coherence; a
+    // segment's stratum is the block of its first pixel.
     for (int y = 0; y < height; ++y)
       for (int x = 0; x < width; x += g) {
         std::vector<uint32_t> unit;
         for (int i = x; i < std::min(width, x + g); ++i) unit.push_back(uint32_t(y) * width + i);
         plan.units.push_back(std::move(unit));
-        plan.stratum.push_back(0);
+        plan.stratum.push_back(int64_t(y) * k / height * k + int64_t(x) * k / width);
       }
   } else {
-    // Blocks of a k x k grid (k = 1 for random), each block's pixels split at random into units.
-    const int k = params.method == SampleMethod::kStratified
-                      ? std::max(1, std::min({params.strata, width, height}))
-                      : 1;
+    // Each block's pixels split at random into units.
     for (int by = 0; by < k; ++by)
       for (int bx = 0; bx < k; ++bx) {
         std::vector<uint32_t> pixels;
@@ -54,7 +56,13 @@ UnitPlan make_unit_plan(const SampleParams& params, int width, int height) {
         add_random_units(pixels, g, by * k + bx, plan);
       }
   }
-  const int strata = *std::max_element(plan.stratum.begin(), plan.stratum.end()) + 1;
+  // Strata numbered densely, empty blocks (narrow frames, long segments) left out.
+  std::vector<int> dense(size_t(k) * k, -1);
+  int strata = 0;
+  for (int& s : plan.stratum) {
+    if (dense[s] < 0) dense[s] = strata++;
+    s = dense[s];
+  }
   plan.stratum_units.assign(strata, 0.0);
   for (int s : plan.stratum) plan.stratum_units[s] += 1.0;
 

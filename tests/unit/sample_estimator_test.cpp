@@ -46,7 +46,7 @@ TEST(SampleEstimator, StratifiedWeightsAndFlags) {
 }
 
 // Every method splits the frame into units that hold each pixel once; the first tenth of the
-// stratified order takes each stratum in proportion.
+// stratified and tiles orders takes each stratum in proportion.
 TEST(SampleUnitPlan, PartitionsTheFrameAndDrawsInProportion) {
   for (const SampleMethod m : {SampleMethod::kRandom, SampleMethod::kStratified, SampleMethod::kTiles}) {
     SampleParams s;
@@ -63,7 +63,8 @@ TEST(SampleUnitPlan, PartitionsTheFrameAndDrawsInProportion) {
     std::vector<uint32_t> order = plan.order;
     std::sort(order.begin(), order.end());
     for (uint32_t i = 0; i < order.size(); ++i) ASSERT_EQ(order[i], i);
-    if (m == SampleMethod::kStratified) {
+    for (double units : plan.stratum_units) EXPECT_GT(units, 0.0);
+    if (m != SampleMethod::kRandom) {
       ASSERT_EQ(plan.stratum_units.size(), 9u);
       std::vector<int> taken(9, 0);
       const size_t n = plan.size() / 10;
