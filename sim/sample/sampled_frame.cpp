@@ -40,7 +40,7 @@ SampledFrame::SampledFrame(const SampleParams& params, int width, int height)
       estimator_(plan_.stratum_units, params.min_units) {}
 
 void SampledFrame::trace_units(WhittedTracer& tracer, const PinholeCamera& camera,
-                               const Snapshot& snapshot, size_t from, size_t to,
+                               const TierRun& tier, size_t from, size_t to,
                                FrameResult& frame, LayoutSample& sample) {
   // This round's units in scan order of their first pixel, so warming runs forwards.
   std::vector<uint32_t> units(plan_.order.begin() + from, plan_.order.begin() + to);
@@ -64,9 +64,9 @@ void SampledFrame::trace_units(WhittedTracer& tracer, const PinholeCamera& camer
       tracer.render_pixels(camera, warm_pixels, scratch);
     }
     const auto rays_before = frame.rays_by_kind;
-    snapshot(before);
+    tier.write_stats(before);
     tracer.render_pixels(camera, pixels, frame);
-    snapshot(after);
+    tier.write_stats(after);
     for (const auto& [key, value] : after.values())
       if (is_extensive(key) && value.is_number())
         unit_values[key] += value.get<double>() - before.at(key).get<double>();
@@ -115,7 +115,7 @@ std::pair<double, std::string> SampledFrame::widest_ci(const LayoutSample& sampl
 }
 
 FrameResult SampledFrame::render(WhittedTracer& tracer, const PinholeCamera& camera,
-                                 const Snapshot& snapshot, const std::string& layout,
+                                 const TierRun& tier, const std::string& layout,
                                  double& seconds) {
   const auto t0 = std::chrono::steady_clock::now();
   layouts_.push_back(LayoutSample{layout, {}, 0, 0.0});
@@ -127,7 +127,7 @@ FrameResult SampledFrame::render(WhittedTracer& tracer, const PinholeCamera& cam
     size_t n = cap;
     if (params_.target_ci > 0.0)
       n = std::min(cap, std::max<size_t>(params_.min_units, 2 * plan_.stratum_units.size()));
-    trace_units(tracer, camera, snapshot, 0, n, frame, sample);
+    trace_units(tracer, camera, tier, 0, n, frame, sample);
     rounds_.push_back(n);
     if (!params_.target_key.empty() && !sample.values.count(params_.target_key))
       throw InputError(params_.origin + ": sample.target_key: '" + params_.target_key +
@@ -140,14 +140,14 @@ FrameResult SampledFrame::render(WhittedTracer& tracer, const PinholeCamera& cam
                                                    (w / params_.target_ci) * 1.1
                                              : 2.0 * double(n);
       const size_t next = std::min(cap, std::max(n + 1, size_t(std::ceil(wanted))));
-      trace_units(tracer, camera, snapshot, n, next, frame, sample);
+      trace_units(tracer, camera, tier, n, next, frame, sample);
       rounds_.push_back(n = next);
     }
   } else {
     // Later layouts: the same units in the same rounds.
     size_t from = 0;
     for (const size_t to : rounds_) {
-      trace_units(tracer, camera, snapshot, from, to, frame, sample);
+      trace_units(tracer, camera, tier, from, to, frame, sample);
       from = to;
     }
   }

@@ -1,11 +1,11 @@
 // Sampled simulation of a frame: the drawn units are traced one after another through a tier's
 // backend (each unit's pixels in scan order, optionally after unmeasured warming pixels), every
-// extensive figure is measured per unit as the change of the tier's counters, and the stats get
+// extensive figure is measured per unit as the change of the counters the tier writes
+// (TierRun::write_stats before and after the unit), and the stats get
 // whole-frame estimates with 95% CIs. Every layout uses the same units; each pair of layouts
 // gets paired-difference CIs. With sample.target_ci the first layout draws units in rounds
 // until every figure (or sample.target_key) reaches it; the other layouts reuse those units.
 #pragma once
-#include <functional>
 #include <map>
 #include <span>
 #include <string>
@@ -15,6 +15,7 @@
 #include "sample/sample_params.h"
 #include "sample/unit_plan.h"
 #include "scene/pinhole_camera.h"
+#include "tier/tier.h"
 #include "tracer/whitted_tracer.h"
 #include "util/stats.h"
 
@@ -22,15 +23,12 @@ namespace rtusim {
 
 class SampledFrame {
  public:
-  // Writes the tier's counters as stats keys (called between units).
-  using Snapshot = std::function<void(Stats&)>;
-
   SampledFrame(const SampleParams& params, int width, int height);
 
-  // Traces this layout's sample through `tracer` (whose backend `snapshot` reads) and keeps
-  // every unit's figures. Throws InputError for an unknown sample.target_key.
-  FrameResult render(WhittedTracer& tracer, const PinholeCamera& camera,
-                     const Snapshot& snapshot, const std::string& layout, double& seconds);
+  // Traces this layout's sample through `tracer` (which sends its rays to tier.backend()) and
+  // keeps every unit's figures. Throws InputError for a sample.target_key the tier lacks.
+  FrameResult render(WhittedTracer& tracer, const PinholeCamera& camera, const TierRun& tier,
+                     const std::string& layout, double& seconds);
 
   // Replaces the layout's extensive keys in `stats` (written by the tier from its sampled
   // counters) with whole-frame estimates and adds `<key>.ci95_low`/`.ci95_high`; the frame's
@@ -53,7 +51,7 @@ class SampledFrame {
   };
 
   // Traces units [from, to) of the drawing order; appends their figures to `sample`.
-  void trace_units(WhittedTracer& tracer, const PinholeCamera& camera, const Snapshot& snapshot,
+  void trace_units(WhittedTracer& tracer, const PinholeCamera& camera, const TierRun& tier,
                    size_t from, size_t to, FrameResult& frame, LayoutSample& sample);
   Estimate estimate(const std::vector<double>& values) const;
   // Largest relative half-width over the target figures, and the figure it belongs to.
