@@ -85,7 +85,7 @@ SimulationResult simulate(const Prepared& p) {
   const CycleParams cycle = p.config.cycle();
   // Sampled simulation (sample.*): the same units for every layout.
   std::optional<SampledFrame> sampler;
-  if (p.config.sample.active()) sampler.emplace(p.config.sample, w, h);
+  if (p.config.sample.active()) sampler.emplace(p.config.sample, w, h, p.config.tracer.order);
   for (const MemoryImage& image : p.images) {
     // The same rays for every layout: hits do not depend on the layout, so neither do rays.
     LayoutRun run;

@@ -34,8 +34,8 @@ bool SampledFrame::is_extensive(const std::string& key) {
   return false;
 }
 
-SampledFrame::SampledFrame(const SampleParams& params, int width, int height)
-    : params_(params), width_(width), height_(height),
+SampledFrame::SampledFrame(const SampleParams& params, int width, int height, RayOrder order)
+    : params_(params), width_(width), height_(height), order_(order),
       plan_(make_unit_plan(params, width, height)),
       estimator_(plan_.stratum_units, params.min_units) {}
 
@@ -197,6 +197,14 @@ void SampledFrame::write_run_stats(Stats& stats) const {
   if (!any.valid)
     std::fprintf(stderr, "rtusim: sample: %s: the 95%% confidence intervals are not valid\n",
                  any.problem.c_str());
+  // Wavefront order: the CIs are of per-unit wavefronts, biased against the full frame's.
+  const bool unit_wavefronts = order_ == RayOrder::kWavefront;
+  stats.set("sample.unit_wavefronts", unit_wavefronts);
+  if (unit_wavefronts)
+    std::fprintf(stderr,
+                 "rtusim: sample: tracer.ray_order = wavefront: each unit is traced as its own "
+                 "wavefront, so the estimates are biased against the full frame's wavefront "
+                 "order (docs/accuracy.md)\n");
 
   // Paired differences: layout b minus layout a over the same units.
   for (size_t a = 0; a < layouts_.size(); ++a)

@@ -23,7 +23,9 @@ namespace rtusim {
 
 class SampledFrame {
  public:
-  SampledFrame(const SampleParams& params, int width, int height);
+  // `order` is the tracer's: in wavefront order each unit is traced as its own small
+  // wavefront, so the estimates are of that order, not of the full frame's (docs/accuracy.md).
+  SampledFrame(const SampleParams& params, int width, int height, RayOrder order);
 
   // Traces this layout's sample through `tracer` (which sends its rays to tier.backend()) and
   // keeps every unit's figures. Throws InputError for a sample.target_key the tier lacks.
@@ -35,8 +37,9 @@ class SampledFrame {
   // ray counts become the (rounded) estimates. Call after the tier wrote its stats.
   void finish_layout(FrameResult& frame, Stats& stats) const;
 
-  // Run-wide keys: sample.* (units, fraction, achieved CI, validity) and the paired
-  // differences of every pair of layouts. Says on stderr when the CIs are not valid.
+  // Run-wide keys: sample.* (units, fraction, achieved CI, validity, unit_wavefronts) and the
+  // paired differences of every pair of layouts. Says on stderr when the CIs are not valid and
+  // when the units were traced as wavefronts of their own.
   void write_run_stats(Stats& stats) const;
 
   // Whether a stats key is an extensive figure (a count that adds up over pixels).
@@ -59,6 +62,7 @@ class SampledFrame {
 
   SampleParams params_;
   int width_, height_;
+  RayOrder order_;
   UnitPlan plan_;
   Estimator estimator_;
   std::vector<size_t> rounds_;  // end of each round of drawn units, decided by the first layout

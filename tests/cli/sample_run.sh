@@ -24,6 +24,12 @@ assert s["sample.units"] == 256 and s["sample.units_total"] == 512 and s["sample
 assert abs(s["sample.fraction"] - 0.5) < 1e-9
 assert few["sample.ci_valid"] is False and "min_units" in few["sample.problem"]
 PY
+# Wavefront order: the units are traced as wavefronts of their own, and the run says so.
+"$rtusim" run "$src/configs/default.toml" "${common[@]}" --set sample.rate=0.5 --set tracer.ray_order=wavefront \
+  --out "$tmp/wf" > /dev/null 2> "$tmp/wf.err"
+grep -q "sample: tracer.ray_order = wavefront: each unit is traced as its own wavefront" "$tmp/wf.err"
+python3 -c 'import json,sys; a,b=(json.load(open(p)) for p in sys.argv[1:3]); assert a["sample.unit_wavefronts"] is False and b["sample.unit_wavefronts"] is True' \
+  "$tmp/s/stats.json" "$tmp/wf/stats.json"
 # Bad sample keys: exit 2, one line naming the key, no output.
 for bad in "sample.method=pixels" "sample.rate=0" "sample.warmup=detailed" "sample.target_key=tree.nodes"; do
   set +e
