@@ -115,6 +115,7 @@ RunConfig load_run_config(const std::string& path, const std::vector<std::string
   c.unit = read_unit_params(r);
   c.sim.vcd_path = read_vcd_path(r);
   c.dram = read_dram_params(r);
+  c.functional = read_functional_params(r);
   if (c.sim.tier == "rtl") {
     // The rtl tier is the cycle tier with the Verilated node L1.
     if (r.has("l1.model") && c.l1.model != "rtl")
@@ -130,6 +131,8 @@ RunConfig load_run_config(const std::string& path, const std::vector<std::string
   } catch (const KeyError& e) {
     r.fail(e);
   }
+
+  c.sample = read_sample_params(r);
 
   r.reject_unknown_keys();
   c.effective = r.effective();

@@ -14,7 +14,9 @@
 #include "mem/l1_params.h"
 #include "model/cycle_params.h"
 #include "model/unit_params.h"
+#include "sample/sample_params.h"
 #include "scene/scene.h"
+#include "tier/functional_params.h"
 #include "tracer/tracer_params.h"
 
 namespace rtusim {
@@ -61,6 +63,8 @@ struct RunConfig {
   DramParams dram;  // dram.*
   SimParams sim;
   ReportParams report;
+  FunctionalParams functional;  // functional.*: the functional tier's interleaved mode
+  SampleParams sample;          // sample.*: sampled simulation
   toml::table effective;  // every key with the value used
 
   // The functional tier's caches.

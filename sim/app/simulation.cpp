@@ -4,8 +4,10 @@
 #include <chrono>
 #include <cstring>
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 
+#include "sample/sampled_frame.h"
 #include "tier/progress_backend.h"
 #include "tier/tier.h"
 
@@ -81,13 +83,16 @@ SimulationResult simulate(const Prepared& p) {
   const int w = p.config.image.width, h = p.config.image.height;
   const FetchCacheParams caches = p.config.fetch_caches();
   const CycleParams cycle = p.config.cycle();
+  // Sampled simulation (sample.*): the same units for every layout.
+  std::optional<SampledFrame> sampler;
+  if (p.config.sample.active()) sampler.emplace(p.config.sample, w, h, p.config.tracer.order);
   for (const MemoryImage& image : p.images) {
     // The same rays for every layout: hits do not depend on the layout, so neither do rays.
     LayoutRun run;
     run.kind = image.layout;
     add_image_stats(image, run.stats);
     // The tier's params for this layout: one VCD per layout when there are several.
-    TierConfig tier_config{caches, cycle, static_cast<uint32_t>(w * h)};
+    TierConfig tier_config{caches, p.config.functional, cycle, static_cast<uint32_t>(w * h)};
     if (!cycle.vcd_path.empty() && p.images.size() > 1) {
       const std::filesystem::path vcd(cycle.vcd_path);
       tier_config.cycle.vcd_path = (vcd.parent_path() / (vcd.stem().string() + "_" +
@@ -96,10 +101,17 @@ SimulationResult simulate(const Prepared& p) {
     }
     const std::unique_ptr<TierRun> tier = make_tier(p.config.sim.tier, image, tier_config);
     double seconds = 0.0;
-    FrameResult frame = render_timed(p, tier->backend(), image.layout, seconds);
+    FrameResult frame;
+    if (sampler) {
+      WhittedTracer tracer(p.scene, p.config.tracer, tier->backend());
+      frame = sampler->render(tracer, PinholeCamera(p.camera, w, h), *tier, image.layout, seconds);
+    } else {
+      frame = render_timed(p, tier->backend(), image.layout, seconds);
+    }
     tier->write_stats(run.stats);
     run.pixel_dram_bytes = tier->pixel_dram_bytes();
     tier->finish();
+    if (sampler) sampler->finish_layout(frame, run.stats);
     if (!result.layouts.empty() &&
         (frame.rays_by_kind != result.frame.rays_by_kind ||
          std::memcmp(frame.radiance.data(), result.frame.radiance.data(),
@@ -115,6 +127,7 @@ SimulationResult simulate(const Prepared& p) {
   if (result.layouts.size() > 1)
     for (const LayoutRun& run : result.layouts)
       for (const auto& [k, v] : run.stats.values()) result.stats.set("layout." + run.kind + "." + k, v);
+  if (sampler) sampler->write_run_stats(result.stats);
   return result;
 }
 

@@ -1,5 +1,7 @@
-// Functional tier: traversal through the cache model.
+// Functional tier: traversal through the cache model, one ray at a time or interleaved.
 #include "tier/functional_backend.h"
+
+#include <algorithm>
 
 #include "layout/layout_dispatch.h"
 #include "traversal/traversal.h"
@@ -7,10 +9,12 @@
 namespace rtusim {
 
 FunctionalBackend::FunctionalBackend(const MemoryImage& image, const FetchCacheParams& caches,
-                                     uint32_t pixels)
-    : image_(image), caches_(caches), pixel_dram_bytes_(pixels, 0) {}
+                                     uint32_t pixels, int rays_in_flight)
+    : image_(image), caches_(caches), pixel_dram_bytes_(pixels, 0),
+      rays_in_flight_(rays_in_flight) {}
 
 void FunctionalBackend::trace(std::span<const RayRecord> rays, std::span<Hit> hits) {
+  if (rays_in_flight_ > 1) return trace_interleaved(rays, hits);
   caches_.with_inlined_node_l1([&](auto& sink) {
     with_layout_decoder(image_, [&]<class Decoder>() {
       for (size_t i = 0; i < rays.size(); ++i) {
@@ -18,6 +22,42 @@ void FunctionalBackend::trace(std::span<const RayRecord> rays, std::span<Hit> hi
         hits[i] = traverse<Decoder>(image_, rays[i].ray, rays[i].any_hit(), sink);
         if (rays[i].pixel < pixel_dram_bytes_.size())
           pixel_dram_bytes_[rays[i].pixel] += caches_.dram_bytes_total() - before;
+      }
+    });
+  });
+}
+
+void FunctionalBackend::trace_interleaved(std::span<const RayRecord> rays, std::span<Hit> hits) {
+  struct Slot {
+    TraversalState state;
+    size_t ray = 0;
+    bool busy = false;
+  };
+  std::vector<Slot> slots(std::min<size_t>(rays_in_flight_, rays.size()));
+  size_t next = 0;
+  auto start = [&](Slot& slot) {
+    slot.busy = next < rays.size();
+    if (!slot.busy) return;
+    slot.ray = next++;
+    traversal_begin(slot.state, image_, rays[slot.ray].ray, rays[slot.ray].any_hit());
+  };
+  for (Slot& slot : slots) start(slot);
+  caches_.with_inlined_node_l1([&](auto& sink) {
+    with_layout_decoder(image_, [&]<class Decoder>() {
+      size_t busy = slots.size();
+      while (busy > 0) {
+        for (Slot& slot : slots) {
+          if (!slot.busy) continue;
+          const uint32_t pixel = rays[slot.ray].pixel;
+          const uint64_t before = caches_.dram_bytes_total();
+          const StepKind step = traversal_step<Decoder>(slot.state, image_, sink);
+          if (pixel < pixel_dram_bytes_.size())
+            pixel_dram_bytes_[pixel] += caches_.dram_bytes_total() - before;
+          if (step != StepKind::kDone && !slot.state.done) continue;
+          hits[slot.ray] = slot.state.hit;
+          start(slot);
+          if (!slot.busy) --busy;
+        }
       }
     });
   });

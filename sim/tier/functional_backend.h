@@ -1,5 +1,10 @@
 // The functional tier: host traversal with every fetch sent through the behavioural caches
 // (node L1, data cache or straight to DRAM), and each ray's DRAM bytes charged to its pixel.
+// With one ray in flight each ray is traversed to the end in turn. With more (the interleaved
+// mode, functional.rays_in_flight) up to that many rays of a batch are in traversal at once and
+// take one traversal step each in turn (round-robin over the slots); a finished ray's slot takes
+// the batch's next ray. That is the cycle tier's ray interleaving without time: it predicts the
+// node stream of a unit that holds that many rays, at about the functional tier's cost.
 #pragma once
 #include <vector>
 
@@ -11,17 +16,23 @@ namespace rtusim {
 
 class FunctionalBackend final : public TraceBackend {
  public:
-  FunctionalBackend(const MemoryImage& image, const FetchCacheParams& caches, uint32_t pixels);
+  FunctionalBackend(const MemoryImage& image, const FetchCacheParams& caches, uint32_t pixels,
+                    int rays_in_flight = 1);
   void trace(std::span<const RayRecord> rays, std::span<Hit> hits) override;
 
   const FetchCache& caches() const { return caches_; }
   // DRAM bytes (all streams) caused by each pixel's whole ray tree.
   const std::vector<uint64_t>& pixel_dram_bytes() const { return pixel_dram_bytes_; }
+  int rays_in_flight() const { return rays_in_flight_; }
 
  private:
+  // The interleaved mode's trace (rays_in_flight_ > 1).
+  void trace_interleaved(std::span<const RayRecord> rays, std::span<Hit> hits);
+
   const MemoryImage& image_;
   FetchCache caches_;
   std::vector<uint64_t> pixel_dram_bytes_;
+  int rays_in_flight_;
 };
 
 }  // namespace rtusim

@@ -1,8 +1,23 @@
+// The functional tier's stats, and its keys (functional.*).
 #include "tier/functional_tier.h"
 
+#include "config/param.h"
 #include "util/stats.h"
 
 namespace rtusim {
+namespace {
+const FunctionalParams kFunctional;
+const IntParam kRaysInFlight("functional.rays_in_flight", kFunctional.rays_in_flight, 1, 1 << 16,
+                             "rays",
+                             "rays in traversal at once, one step each in turn (1: each ray to "
+                             "the end in turn; more: the cycle tier's interleaving, no time)");
+}  // namespace
+
+FunctionalParams read_functional_params(ConfigReader& r) {
+  FunctionalParams p;
+  p.rays_in_flight = static_cast<int>(kRaysInFlight.read(r));
+  return p;
+}
 
 void FunctionalTier::write_stats(Stats& stats) const {
   const FetchCache& c = backend_.caches();
@@ -10,6 +25,8 @@ void FunctionalTier::write_stats(Stats& stats) const {
   stats.set("traversal.list_fetches", c.stream(Stream::kList).fetches);
   stats.set("traversal.triangle_fetches", c.stream(Stream::kTriangle).fetches);
   c.write_stats(stats);
+  if (backend_.rays_in_flight() > 1)
+    stats.set("functional.rays_in_flight", backend_.rays_in_flight());
 }
 
 }  // namespace rtusim

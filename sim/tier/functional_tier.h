@@ -1,5 +1,6 @@
 // The functional tier: host traversal through the behavioural caches (no time); attributes
-// each ray's DRAM bytes to its pixel.
+// each ray's DRAM bytes to its pixel. functional.rays_in_flight > 1 interleaves the rays'
+// traversal steps (FunctionalBackend).
 #pragma once
 #include "tier/functional_backend.h"
 #include "tier/tier.h"
@@ -10,10 +11,11 @@ class FunctionalTier final : public TierRun {
  public:
   static constexpr const char* kName = "functional";
   FunctionalTier(const MemoryImage& image, const TierConfig& config)
-      : backend_(image, config.caches, config.pixels) {}
+      : backend_(image, config.caches, config.pixels, config.functional.rays_in_flight) {}
 
   TraceBackend& backend() override { return backend_; }
-  // traversal.{node,list,triangle}_fetches and the caches' keys (FetchCache::write_stats).
+  // traversal.{node,list,triangle}_fetches, the caches' keys (FetchCache::write_stats) and, in
+  // the interleaved mode, functional.rays_in_flight.
   void write_stats(Stats& stats) const override;
   std::vector<uint64_t> pixel_dram_bytes() const override { return backend_.pixel_dram_bytes(); }
 

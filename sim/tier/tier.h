@@ -11,6 +11,7 @@
 #include "cache/stream_caches.h"
 #include "layout/memory_image.h"
 #include "model/cycle_params.h"
+#include "tier/functional_params.h"
 #include "tracer/ray_batch.h"
 
 namespace rtusim {
@@ -20,7 +21,8 @@ class Stats;
 
 // What a tier is made from: every tier's params (each uses its own).
 struct TierConfig {
-  FetchCacheParams caches;  // functional: the behavioural caches
+  FetchCacheParams caches;      // functional: the behavioural caches
+  FunctionalParams functional;  // functional: rays in flight (interleaved mode)
   CycleParams cycle;        // cycle, rtl: the SystemC top (derived, validated)
   uint32_t pixels = 0;      // image width x height
 };

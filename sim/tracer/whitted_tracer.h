@@ -4,6 +4,7 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -34,14 +35,24 @@ class WhittedTracer {
   // Renders a frame; the rays reach the backend in the configured order.
   FrameResult render(const PinholeCamera& camera, int width, int height);
 
+  // A frame of black pixels and no rays, for render_pixels.
+  FrameResult begin_frame(const PinholeCamera& camera, int width, int height);
+  // Traces the ray trees of `pixels` (row-major indices), in this order, into `out`: recursive
+  // order one pixel after another, wavefront order as one wavefront over them. render() is
+  // begin_frame() and render_pixels() over every pixel in scan order.
+  void render_pixels(const PinholeCamera& camera, std::span<const uint32_t> pixels,
+                     FrameResult& out);
+
  private:
   struct PathRay;
   struct Shading;
 
   Shading shade(const PathRay& pr, const Hit& hit) const;
   glm::vec3 local_radiance(const Shading& sh, const Hit* shadow_hits) const;
-  void render_recursive(const PinholeCamera& camera, FrameResult& out);
-  void render_wavefront(const PinholeCamera& camera, FrameResult& out);
+  void render_recursive(const PinholeCamera& camera, std::span<const uint32_t> pixels,
+                        FrameResult& out);
+  void render_wavefront(const PinholeCamera& camera, std::span<const uint32_t> pixels,
+                        FrameResult& out);
   void trace_recursive(const PathRay& pr, FrameResult& out, glm::vec3& acc);
 
   const Scene& scene_;

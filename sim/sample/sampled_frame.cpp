@@ -1,0 +1,226 @@
+#include "sample/sampled_frame.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "util/error.h"
+
+namespace rtusim {
+namespace {
+
+const char* const kRayKeys[kRayKinds] = {"rays.primary", "rays.shadow", "rays.reflection",
+                                         "rays.refraction"};
+
+bool ends_with(const std::string& s, const std::string& tail) {
+  return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
+}
+
+// Figures whose layout differences get a paired CI.
+const char* const kPairedKeys[] = {"dram.bytes.nodes", "dram.bytes.total", "l1.misses",
+                                   "sim.cycles"};
+
+}  // namespace
+
+bool SampledFrame::is_extensive(const std::string& key) {
+  if (key.rfind("rays.", 0) == 0 || key.rfind("dram.bytes.", 0) == 0 ||
+      key.rfind("fetch.", 0) == 0 || key.rfind("traversal.", 0) == 0 || key == "sim.cycles")
+    return true;
+  if (key.rfind("l1.", 0) == 0 || key.rfind("dcache.", 0) == 0)
+    for (const char* tail : {".accesses", ".hits", ".misses", ".primary_misses", ".merged_misses",
+                             ".mshr_stall_cycles"})
+      if (ends_with(key, tail)) return true;
+  return false;
+}
+
+SampledFrame::SampledFrame(const SampleParams& params, int width, int height, RayOrder order)
+    : params_(params), width_(width), height_(height), order_(order),
+      plan_(make_unit_plan(params, width, height)),
+      estimator_(plan_.stratum_units, params.min_units) {}
+
+void SampledFrame::trace_units(WhittedTracer& tracer, const PinholeCamera& camera,
+                               const TierRun& tier, size_t from, size_t to,
+                               FrameResult& frame, LayoutSample& sample) {
+  // This round's units in scan order of their first pixel, so warming runs forwards.
+  std::vector<uint32_t> units(plan_.order.begin() + from, plan_.order.begin() + to);
+  std::sort(units.begin(), units.end(),
+            [&](uint32_t a, uint32_t b) { return plan_.units[a][0] < plan_.units[b][0]; });
+  const bool warm = params_.warmup == SampleWarmup::kFunctional && params_.warmup_pixels > 0;
+  FrameResult scratch;  // the warming pixels' rays: not measured
+  if (warm) scratch = tracer.begin_frame(camera, width_, height_);
+  std::map<std::string, double> unit_values;
+  Stats before, after;
+  uint32_t last_traced = UINT32_MAX;
+  std::vector<uint32_t> warm_pixels;
+
+  // Traces `pixels` (adjacent in scan order when warming) and adds what they did to the unit.
+  auto measure = [&](std::span<const uint32_t> pixels) {
+    if (warm && pixels.front() != last_traced + 1) {
+      warm_pixels.clear();
+      const uint32_t first = pixels.front();
+      for (uint32_t p = first - std::min<uint32_t>(first, params_.warmup_pixels); p < first; ++p)
+        warm_pixels.push_back(p);
+      tracer.render_pixels(camera, warm_pixels, scratch);
+    }
+    const auto rays_before = frame.rays_by_kind;
+    tier.write_stats(before);
+    tracer.render_pixels(camera, pixels, frame);
+    tier.write_stats(after);
+    for (const auto& [key, value] : after.values())
+      if (is_extensive(key) && value.is_number())
+        unit_values[key] += value.get<double>() - before.at(key).get<double>();
+    uint64_t rays = 0;
+    for (int k = 0; k < kRayKinds; ++k) {
+      unit_values[kRayKeys[k]] += double(frame.rays_by_kind[k] - rays_before[k]);
+      rays += frame.rays_by_kind[k] - rays_before[k];
+    }
+    unit_values["rays.total"] += double(rays);
+    sample.rays_simulated += rays;
+    last_traced = pixels.back();
+  };
+
+  for (const uint32_t u : units) {
+    const std::vector<uint32_t>& pixels = plan_.units[u];
+    unit_values.clear();
+    if (!warm) {
+      measure(pixels);
+    } else {
+      // Each run of adjacent pixels is warmed and measured on its own.
+      size_t start = 0;
+      for (size_t i = 1; i <= pixels.size(); ++i)
+        if (i == pixels.size() || pixels[i] != pixels[i - 1] + 1) {
+          measure(std::span<const uint32_t>(pixels).subspan(start, i - start));
+          start = i;
+        }
+    }
+    // Figures in this round's trace order, the same for every layout.
+    for (const auto& [key, value] : unit_values) sample.values[key].push_back(value);
+    if (&sample == &layouts_.front()) strata_taken_.push_back(plan_.stratum[u]);
+  }
+}
+
+Estimate SampledFrame::estimate(const std::vector<double>& values) const {
+  return estimator_.total(values, strata_taken_);
+}
+
+std::pair<double, std::string> SampledFrame::widest_ci(const LayoutSample& sample) const {
+  std::pair<double, std::string> widest{0.0, ""};
+  for (const auto& [key, values] : sample.values) {
+    if (!params_.target_key.empty() && key != params_.target_key) continue;
+    const double w = estimate(values).relative_half_width();
+    if (w > widest.first || widest.second.empty()) widest = {w, key};
+  }
+  return widest;
+}
+
+FrameResult SampledFrame::render(WhittedTracer& tracer, const PinholeCamera& camera,
+                                 const TierRun& tier, const std::string& layout,
+                                 double& seconds) {
+  const auto t0 = std::chrono::steady_clock::now();
+  layouts_.push_back(LayoutSample{layout, {}, 0, 0.0});
+  LayoutSample& sample = layouts_.back();
+  FrameResult frame = tracer.begin_frame(camera, width_, height_);
+  if (layouts_.size() == 1) {
+    // The first layout draws the units: the rate's share, or rounds until the target CI.
+    const size_t cap = std::max<size_t>(1, std::llround(params_.rate * double(plan_.size())));
+    size_t n = cap;
+    if (params_.target_ci > 0.0)
+      n = std::min(cap, std::max<size_t>(params_.min_units, 2 * plan_.stratum_units.size()));
+    trace_units(tracer, camera, tier, 0, n, frame, sample);
+    rounds_.push_back(n);
+    if (!params_.target_key.empty() && !sample.values.count(params_.target_key))
+      throw InputError(params_.origin + ": sample.target_key: '" + params_.target_key +
+                       "' is not measured by this tier");
+    while (params_.target_ci > 0.0 && n < cap) {
+      const double w = widest_ci(sample).first;
+      if (w <= params_.target_ci) break;
+      // The half-width shrinks as 1/sqrt(n): aim 10% past the units that should reach it.
+      const double wanted = std::isfinite(w) ? double(n) * (w / params_.target_ci) *
+                                                   (w / params_.target_ci) * 1.1
+                                             : 2.0 * double(n);
+      const size_t next = std::min(cap, std::max(n + 1, size_t(std::ceil(wanted))));
+      trace_units(tracer, camera, tier, n, next, frame, sample);
+      rounds_.push_back(n = next);
+    }
+  } else {
+    // Later layouts: the same units in the same rounds.
+    size_t from = 0;
+    for (const size_t to : rounds_) {
+      trace_units(tracer, camera, tier, from, to, frame, sample);
+      from = to;
+    }
+  }
+  seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  sample.seconds = seconds;
+  return frame;
+}
+
+void SampledFrame::finish_layout(FrameResult& frame, Stats& stats) const {
+  const LayoutSample& sample = layouts_.back();
+  for (const auto& [key, values] : sample.values) {
+    const Estimate e = estimate(values);
+    stats.set(key, e.value);
+    stats.set(key + ".ci95_low", e.ci_low());
+    stats.set(key + ".ci95_high", e.ci_high());
+  }
+  for (int k = 0; k < kRayKinds; ++k)
+    frame.rays_by_kind[k] = static_cast<uint64_t>(
+        std::llround(estimate(sample.values.at(kRayKeys[k])).value));
+  const auto [w, key] = widest_ci(sample);
+  stats.set("sample.achieved_ci", w);
+  stats.set("sample.achieved_ci_key", key);
+  stats.set("sample.rays_simulated", sample.rays_simulated);
+  stats.set("sample.rays_simulated_per_second",
+            sample.seconds > 0 ? double(sample.rays_simulated) / sample.seconds : 0.0);
+}
+
+void SampledFrame::write_run_stats(Stats& stats) const {
+  const size_t n = rounds_.empty() ? 0 : rounds_.back();
+  size_t pixels = 0;
+  for (size_t i = 0; i < n; ++i) pixels += plan_.units[plan_.order[i]].size();
+  stats.set("sample.method", params_.method_name);
+  stats.set("sample.rate", params_.rate);
+  stats.set("sample.seed", params_.seed);
+  stats.set("sample.warmup", params_.warmup_name);
+  stats.set("sample.target_ci", params_.target_ci);
+  stats.set("sample.units", n);
+  stats.set("sample.units_total", plan_.size());
+  stats.set("sample.rounds", rounds_.size());
+  stats.set("sample.pixels", pixels);
+  stats.set("sample.fraction", double(pixels) / (double(width_) * height_));
+  const Estimate any = estimator_.total(std::vector<double>(n, 0.0), strata_taken_);
+  stats.set("sample.ci_valid", any.valid);
+  stats.set("sample.problem", any.problem);
+  if (params_.target_ci > 0.0)
+    stats.set("sample.target_met", widest_ci(layouts_.front()).first <= params_.target_ci);
+  if (!any.valid)
+    std::fprintf(stderr, "rtusim: sample: %s: the 95%% confidence intervals are not valid\n",
+                 any.problem.c_str());
+  // Wavefront order: the CIs are of per-unit wavefronts, biased against the full frame's.
+  const bool unit_wavefronts = order_ == RayOrder::kWavefront;
+  stats.set("sample.unit_wavefronts", unit_wavefronts);
+  if (unit_wavefronts)
+    std::fprintf(stderr,
+                 "rtusim: sample: tracer.ray_order = wavefront: each unit is traced as its own "
+                 "wavefront, so the estimates are biased against the full frame's wavefront "
+                 "order (docs/accuracy.md)\n");
+
+  // Paired differences: layout b minus layout a over the same units.
+  for (size_t a = 0; a < layouts_.size(); ++a)
+    for (size_t b = a + 1; b < layouts_.size(); ++b)
+      for (const char* key : kPairedKeys) {
+        const auto ia = layouts_[a].values.find(key), ib = layouts_[b].values.find(key);
+        if (ia == layouts_[a].values.end() || ib == layouts_[b].values.end()) continue;
+        std::vector<double> d(ia->second.size());
+        for (size_t i = 0; i < d.size(); ++i) d[i] = ib->second[i] - ia->second[i];
+        const Estimate e = estimate(d);
+        const std::string stem =
+            "sample.diff." + layouts_[b].layout + "-" + layouts_[a].layout + "." + key;
+        stats.set(stem, e.value);
+        stats.set(stem + ".ci95_low", e.ci_low());
+        stats.set(stem + ".ci95_high", e.ci_high());
+      }
+}
+
+}  // namespace rtusim

@@ -1,0 +1,73 @@
+// Sampled simulation of a frame: the drawn units are traced one after another through a tier's
+// backend (each unit's pixels in scan order, optionally after unmeasured warming pixels), every
+// extensive figure is measured per unit as the change of the counters the tier writes
+// (TierRun::write_stats before and after the unit), and the stats get
+// whole-frame estimates with 95% CIs. Every layout uses the same units; each pair of layouts
+// gets paired-difference CIs. With sample.target_ci the first layout draws units in rounds
+// until every figure (or sample.target_key) reaches it; the other layouts reuse those units.
+#pragma once
+#include <map>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "sample/estimator.h"
+#include "sample/sample_params.h"
+#include "sample/unit_plan.h"
+#include "scene/pinhole_camera.h"
+#include "tier/tier.h"
+#include "tracer/whitted_tracer.h"
+#include "util/stats.h"
+
+namespace rtusim {
+
+class SampledFrame {
+ public:
+  // `order` is the tracer's: in wavefront order each unit is traced as its own small
+  // wavefront, so the estimates are of that order, not of the full frame's (docs/accuracy.md).
+  SampledFrame(const SampleParams& params, int width, int height, RayOrder order);
+
+  // Traces this layout's sample through `tracer` (which sends its rays to tier.backend()) and
+  // keeps every unit's figures. Throws InputError for a sample.target_key the tier lacks.
+  FrameResult render(WhittedTracer& tracer, const PinholeCamera& camera, const TierRun& tier,
+                     const std::string& layout, double& seconds);
+
+  // Replaces the layout's extensive keys in `stats` (written by the tier from its sampled
+  // counters) with whole-frame estimates and adds `<key>.ci95_low`/`.ci95_high`; the frame's
+  // ray counts become the (rounded) estimates. Call after the tier wrote its stats.
+  void finish_layout(FrameResult& frame, Stats& stats) const;
+
+  // Run-wide keys: sample.* (units, fraction, achieved CI, validity, unit_wavefronts) and the
+  // paired differences of every pair of layouts. Says on stderr when the CIs are not valid and
+  // when the units were traced as wavefronts of their own.
+  void write_run_stats(Stats& stats) const;
+
+  // Whether a stats key is an extensive figure (a count that adds up over pixels).
+  static bool is_extensive(const std::string& key);
+
+ private:
+  struct LayoutSample {
+    std::string layout;
+    std::map<std::string, std::vector<double>> values;  // key -> per-unit figure, drawing order
+    uint64_t rays_simulated = 0;
+    double seconds = 0.0;
+  };
+
+  // Traces units [from, to) of the drawing order; appends their figures to `sample`.
+  void trace_units(WhittedTracer& tracer, const PinholeCamera& camera, const TierRun& tier,
+                   size_t from, size_t to, FrameResult& frame, LayoutSample& sample);
+  Estimate estimate(const std::vector<double>& values) const;
+  // Largest relative half-width over the target figures, and the figure it belongs to.
+  std::pair<double, std::string> widest_ci(const LayoutSample& sample) const;
+
+  SampleParams params_;
+  int width_, height_;
+  RayOrder order_;
+  UnitPlan plan_;
+  Estimator estimator_;
+  std::vector<size_t> rounds_;  // end of each round of drawn units, decided by the first layout
+  std::vector<int> strata_taken_;
+  std::vector<LayoutSample> layouts_;
+};
+
+}  // namespace rtusim

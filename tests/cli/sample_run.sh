@@ -1,0 +1,54 @@
+#!/usr/bin/env bash
+# Sampled runs end to end: every extensive figure gets a whole-frame estimate inside its 95% CI,
+# the paired ODFL-DFL difference has its own CI, too few units is said on stderr and in the
+# stats, bad sample keys are input errors; the interleaved mode with one ray in flight is the
+# functional tier, and with 32 in wavefront order it moves different node bytes.
+set -euo pipefail
+rtusim=$1; src=$2
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+common=(--set image.width=64 --set image.height=64 --set 'layout.kind=["dfl","odfl"]')
+"$rtusim" run "$src/configs/default.toml" "${common[@]}" --set sample.rate=0.5 --set sample.unit_pixels=8 \
+  --out "$tmp/s" > /dev/null 2> "$tmp/s.err"
+"$rtusim" run "$src/configs/default.toml" "${common[@]}" --set sample.rate=0.02 --out "$tmp/few" > /dev/null 2> "$tmp/few.err"
+grep -q "sample: .* units < sample.min_units = 30: the 95% confidence intervals are not valid" "$tmp/few.err"
+[ ! -s "$tmp/s.err" ]
+python3 - "$tmp/s/stats.json" "$tmp/few/stats.json" <<'PY'
+import json, sys
+s, few = (json.load(open(p)) for p in sys.argv[1:3])
+for k in ["rays.total", "dram.bytes.nodes", "dram.bytes.total", "l1.misses", "layout.odfl.dram.bytes.nodes"]:
+    assert s[k + ".ci95_low"] <= s[k] <= s[k + ".ci95_high"], k
+d = "sample.diff.odfl-dfl.dram.bytes.nodes"
+assert abs(s[d] - (s["layout.odfl.dram.bytes.nodes"] - s["layout.dfl.dram.bytes.nodes"])) < 1e-6 * s["dram.bytes.nodes"]
+assert s[d + ".ci95_low"] <= s[d] <= s[d + ".ci95_high"]
+assert s["sample.units"] == 256 and s["sample.units_total"] == 512 and s["sample.ci_valid"] is True
+assert abs(s["sample.fraction"] - 0.5) < 1e-9
+assert few["sample.ci_valid"] is False and "min_units" in few["sample.problem"]
+PY
+# Wavefront order: the units are traced as wavefronts of their own, and the run says so.
+"$rtusim" run "$src/configs/default.toml" "${common[@]}" --set sample.rate=0.5 --set tracer.ray_order=wavefront \
+  --out "$tmp/wf" > /dev/null 2> "$tmp/wf.err"
+grep -q "sample: tracer.ray_order = wavefront: each unit is traced as its own wavefront" "$tmp/wf.err"
+python3 -c 'import json,sys; a,b=(json.load(open(p)) for p in sys.argv[1:3]); assert a["sample.unit_wavefronts"] is False and b["sample.unit_wavefronts"] is True' \
+  "$tmp/s/stats.json" "$tmp/wf/stats.json"
+# Bad sample keys: exit 2, one line naming the key, no output.
+for bad in "sample.method=pixels" "sample.rate=0" "sample.warmup=detailed" "sample.target_key=tree.nodes"; do
+  set +e
+  "$rtusim" run "$src/configs/default.toml" --set "$bad" --out "$tmp/bad" > /dev/null 2> "$tmp/bad.err"
+  rc=$?
+  set -e
+  [ $rc -eq 2 ] && [ "$(wc -l < "$tmp/bad.err")" -eq 1 ] && grep -q "${bad%%=*}" "$tmp/bad.err" && [ ! -e "$tmp/bad/stats.json" ] \
+    || { echo "FAIL $bad: exit $rc"; cat "$tmp/bad.err"; exit 1; }
+done
+# Interleaved functional mode.
+w=(--set image.width=48 --set image.height=40 --set tracer.ray_order=wavefront)
+"$rtusim" run "$src/configs/default.toml" "${w[@]}" --out "$tmp/f" > /dev/null
+"$rtusim" run "$src/configs/default.toml" "${w[@]}" --set functional.rays_in_flight=32 --out "$tmp/i32" > /dev/null
+cmp "$tmp/f/image.png" "$tmp/i32/image.png"
+python3 - "$tmp/f/stats.json" "$tmp/i32/stats.json" <<'PY'
+import json, sys
+f, i = (json.load(open(p)) for p in sys.argv[1:3])
+assert f["traversal.node_fetches"] == i["traversal.node_fetches"]
+assert f["dram.bytes.nodes"] != i["dram.bytes.nodes"], "32 rays in flight change the node stream"
+assert i["functional.rays_in_flight"] == 32 and "functional.rays_in_flight" not in f
+PY
+echo PASS
