@@ -6,6 +6,7 @@
 
 #include "app/commands.h"
 #include "util/error.h"
+#include "util/output_files.h"
 
 int main(int argc, char** argv) {
   using namespace rtusim;
@@ -31,8 +32,9 @@ int main(int argc, char** argv) {
   trace->add_option("--set", trace_opts.overrides, "Override a config key: KEY=VALUE")
       ->allow_extra_args(false);
   trace->add_option("--out", trace_opts.out, "Output trace file")->required();
-  trace->add_option("--format", trace_opts.format, "din (Dinero IV, default) or bin")
-      ->check(CLI::IsMember({"din", "bin"}));
+  trace->add_option("--format", trace_opts.format,
+                    "din (Dinero IV, default), din-sized (din + access size) or bin")
+      ->check(CLI::IsMember({"din", "din-sized", "bin"}));
 
   ReplayOptions replay_opts;
   auto* replay = app.add_subcommand("replay", "Replay a node trace through one cache (l1.*)");
@@ -45,6 +47,22 @@ int main(int argc, char** argv) {
   regress->add_option("dir", regress_opts.dir, "Directory of cases (default: traces/ of the project)");
   regress->add_flag("--update", regress_opts.update,
                     "Rewrite every expected.json from this build (scripts/update_references.sh)");
+
+  // An unknown first word is named as such (CLI11 would only say a subcommand is required).
+  if (argc > 1 && argv[1][0] != '-') {
+    std::string names;
+    bool known = false;
+    for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
+      known |= sub->get_name() == argv[1];
+      names += (names.empty() ? "" : ", ") + sub->get_name();
+    }
+    if (!known) {
+      std::cerr << "rtusim: unknown subcommand '" << argv[1] << "' (one of " << names
+                << "; see rtusim --help)\n";
+      return 2;
+    }
+  }
+  install_output_cleanup();
 
   try {
     app.parse(argc, argv);
