@@ -6,6 +6,7 @@
 #include "kdtree/sah_builder.h"
 #include "layout/layout.h"
 #include "scene/load_scene.h"
+#include "scene/pinhole_camera.h"
 #include "util/error.h"
 
 namespace rtusim {
@@ -38,6 +39,8 @@ Prepared prepare_run(const std::string& config_path, const std::vector<std::stri
   p.scene_load_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   p.camera = select_camera(p.config, p.scene);
+  if (const std::string why = camera_problem(p.camera); !why.empty())
+    throw InputError(config_path + ": " + (p.config.camera ? "camera" : "scene.camera") + ": " + why);
   p.tree = build_sah_kd_tree(p.scene, p.config.kdtree);
   for (const auto& kind : p.config.layouts)
     p.images.push_back(make_layout(kind)->build_image(p.tree, p.scene));
