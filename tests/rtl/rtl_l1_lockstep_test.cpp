@@ -5,6 +5,8 @@
 // kitchen when $RTUSIM_SCENES/kitchen/kitchen.gltf exists).
 #include <gtest/gtest.h>
 
+#include "../skip_unless_ci.h"
+
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -83,7 +85,7 @@ TEST_P(RtlL1Lockstep, CornellNodeTrace) {
 
 TEST_P(RtlL1Lockstep, KitchenNodeTrace) {
   const std::vector<uint64_t>* t = kitchen_node_trace();
-  if (!t) GTEST_SKIP() << "no kitchen scene under $RTUSIM_SCENES";
+  if (!t) RTUSIM_SKIP_UNLESS_CI("no kitchen scene under $RTUSIM_SCENES");
   expect_lockstep(GetParam(), *t, "kitchen node trace");
 }
 
