@@ -143,14 +143,15 @@ std::string printable(char c) {
 
 }  // namespace
 
-TraceReader::TraceReader(const std::filesystem::path& path)
-    : path_(path), name_(path.string()), buf_(kReadBytes + kMaxDinLineBytes) {
+TraceReader::TraceReader(const std::filesystem::path& path) : path_(path), name_(path.string()) {
   std::error_code ec;
   if (std::filesystem::is_directory(path_, ec)) fail("is a directory, not a trace file");
   file_ = std::fopen(path_.c_str(), "rb");
   if (!file_) fail("cannot open trace file");
   const uint64_t size = std::filesystem::file_size(path_, ec);
   if (ec) fail("cannot read trace file");
+  // The buffer: the whole file when it is small, else one read's worth plus a din line.
+  buf_.resize(static_cast<size_t>(std::min<uint64_t>(size, kReadBytes)) + kMaxDinLineBytes + 16);
   file_left_ = size;
   uint8_t head[kBinFixedHeaderBytes];
   const size_t got = std::fread(head, 1, sizeof head, file_);
