@@ -59,14 +59,12 @@ TraceWriter::TraceWriter(const std::filesystem::path& path, TraceFormat format,
       scene_hash_(scene_hash), buf_(kBufferBytes) {
   if (layout_.empty() || layout_.size() > kMaxLayoutNameBytes)
     throw std::logic_error("trace: layout name '" + layout_ + "' does not fit the bin header");
-  file_ = std::fopen(path_.c_str(), "wb");
+  file_.reset(std::fopen(path_.c_str(), "wb"));
   if (!file_) throw InputError(path_.string() + ": cannot open for writing (" + std::strerror(errno) + ")");
   if (format_ == TraceFormat::kBin) write_header();  // placeholder; finish() rewrites it
 }
 
-TraceWriter::~TraceWriter() {
-  if (file_) std::fclose(file_);
-}
+TraceWriter::~TraceWriter() = default;
 
 void TraceWriter::append_din(uint64_t addr) {
   static constexpr char kHex[] = "0123456789abcdef";
@@ -95,7 +93,7 @@ void TraceWriter::append_din(uint64_t addr) {
 
 void TraceWriter::flush_buffer() {
   if (used_ == 0) return;
-  if (std::fwrite(buf_.data(), 1, used_, file_) != used_)
+  if (std::fwrite(buf_.data(), 1, used_, file_.get()) != used_)
     throw InputError(path_.string() + ": cannot write (" + std::strerror(errno) + ")");
   payload_bytes_ += used_;
   used_ = 0;
@@ -112,16 +110,15 @@ void TraceWriter::write_header() {
   put_u64(&h[40], payload_bytes_);
   put_u32(&h[48], static_cast<uint32_t>(layout_.size()));
   std::memcpy(&h[52], layout_.data(), layout_.size());
-  if (std::fseek(file_, 0, SEEK_SET) != 0 || std::fwrite(h.data(), 1, h.size(), file_) != h.size())
+  if (std::fseek(file_.get(), 0, SEEK_SET) != 0 || std::fwrite(h.data(), 1, h.size(), file_.get()) != h.size())
     throw InputError(path_.string() + ": cannot write (" + std::strerror(errno) + ")");
 }
 
 void TraceWriter::finish() {
   flush_buffer();
   if (format_ == TraceFormat::kBin) write_header();
-  const bool ok = std::fflush(file_) == 0;
-  const bool closed = std::fclose(file_) == 0;
-  file_ = nullptr;
+  const bool ok = std::fflush(file_.get()) == 0;
+  const bool closed = std::fclose(file_.release()) == 0;
   if (!ok || !closed) throw InputError(path_.string() + ": cannot write (" + std::strerror(errno) + ")");
 }
 
@@ -146,7 +143,7 @@ std::string printable(char c) {
 TraceReader::TraceReader(const std::filesystem::path& path) : path_(path), name_(path.string()) {
   std::error_code ec;
   if (std::filesystem::is_directory(path_, ec)) fail("is a directory, not a trace file");
-  file_ = std::fopen(path_.c_str(), "rb");
+  file_.reset(std::fopen(path_.c_str(), "rb"));
   if (!file_) fail("cannot open trace file");
   const uint64_t size = std::filesystem::file_size(path_, ec);
   if (ec) fail("cannot read trace file");
@@ -154,7 +151,7 @@ TraceReader::TraceReader(const std::filesystem::path& path) : path_(path), name_
   buf_.resize(static_cast<size_t>(std::min<uint64_t>(size, kReadBytes)) + kMaxDinLineBytes + 16);
   file_left_ = size;
   uint8_t head[kBinFixedHeaderBytes];
-  const size_t got = std::fread(head, 1, sizeof head, file_);
+  const size_t got = std::fread(head, 1, sizeof head, file_.get());
   if (got >= 8 && std::memcmp(head, kBinMagic, 8) == 0) {
     if (got < kBinFixedHeaderBytes)
       fail("truncated: " + std::to_string(got) + " bytes, shorter than the " +
@@ -178,10 +175,6 @@ TraceReader::TraceReader(const std::filesystem::path& path) : path_(path), name_
   }
 }
 
-TraceReader::~TraceReader() {
-  if (file_) std::fclose(file_);
-}
-
 void TraceReader::fail(const std::string& what) const { throw InputError(name_ + ": " + what); }
 
 void TraceReader::parse_bin_header(uint64_t file_bytes) {
@@ -203,7 +196,7 @@ void TraceReader::parse_bin_header(uint64_t file_bytes) {
   if (name_len == 0 || name_len > kMaxLayoutNameBytes)
     fail("bad header: layout name length " + std::to_string(name_len));
   char name[kMaxLayoutNameBytes];
-  if (std::fread(name, 1, name_len, file_) != name_len)
+  if (std::fread(name, 1, name_len, file_.get()) != name_len)
     fail("truncated: the header's layout name is cut off");
   header_.layout.assign(name, name_len);
   for (const char c : header_.layout)
@@ -233,7 +226,7 @@ bool TraceReader::refill() {
   }
   const size_t want = static_cast<size_t>(std::min<uint64_t>(file_left_, buf_.size() - end_));
   if (want == 0) return false;
-  const size_t got = std::fread(buf_.data() + end_, 1, want, file_);
+  const size_t got = std::fread(buf_.data() + end_, 1, want, file_.get());
   if (got == 0) fail("cannot read trace file (it shrank while being read)");
   end_ += got;
   file_left_ -= got;

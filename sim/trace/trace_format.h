@@ -32,6 +32,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -42,6 +43,12 @@ namespace rtusim {
 
 // kDinSized: din lines with a third field, the fetch's bytes in hex ("0 1a40 c"): Dinero IV's
 // extended din input, so a tool that honours sizes counts a node straddling two lines twice.
+// Closes a FILE owned by a unique_ptr (so a constructor that throws still closes it).
+struct FileCloser {
+  void operator()(std::FILE* f) const { std::fclose(f); }
+};
+using FilePtr = std::unique_ptr<std::FILE, FileCloser>;
+
 enum class TraceFormat { kDin, kDinSized, kBin };
 
 inline constexpr char kBinMagic[8] = {'R', 'T', 'U', 'T', 'R', 'A', 'C', 'E'};
@@ -113,7 +120,7 @@ class TraceWriter {
   std::string layout_;
   uint32_t node_bytes_;
   uint64_t scene_hash_;
-  std::FILE* file_ = nullptr;
+  FilePtr file_;
   std::vector<uint8_t> buf_;
   size_t used_ = 0;
   uint64_t prev_ = 0;
@@ -148,7 +155,6 @@ inline constexpr uint32_t kMaxFetchBytes = 4096;
 class TraceReader {
  public:
   explicit TraceReader(const std::filesystem::path& path);
-  ~TraceReader();
   TraceReader(const TraceReader&) = delete;
   TraceReader& operator=(const TraceReader&) = delete;
 
@@ -175,7 +181,7 @@ class TraceReader {
 
   std::filesystem::path path_;
   std::string name_;
-  std::FILE* file_ = nullptr;
+  FilePtr file_;
   std::vector<uint8_t> buf_;
   size_t pos_ = 0, end_ = 0;     // unread bytes: buf_[pos_, end_)
   uint64_t file_left_ = 0;       // bytes still to read from the file (bin: of the payload)

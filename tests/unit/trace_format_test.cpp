@@ -211,6 +211,15 @@ TEST_F(TraceFormatTest, NodeSizeAndUnprintableBytesGiveClearErrors) {
   EXPECT_NE(error_of(dir_).find("is a directory"), std::string::npos);
 }
 
+// A rejected trace closes its file (the constructor throws after opening it): ten thousand
+// rejections in one process must not run out of file descriptors.
+TEST_F(TraceFormatTest, RejectedTracesCloseTheirFiles) {
+  put(dir_ / "bad.bin", {'R', 'T', 'U', 'T', 'R', 'A', 'C', 'E', 9, 0, 0, 0});
+  for (int i = 0; i < 10000; ++i)
+    ASSERT_NE(error_of(dir_ / "bad.bin").find("bad.bin: truncated"), std::string::npos) << i;
+  EXPECT_EQ(error_of(dir_ / "none.bin").find("Too many open files"), std::string::npos);
+}
+
 TEST_F(TraceFormatTest, ChecksumSeesOrderAndEveryAddress) {
   EXPECT_NE(trace_checksum(std::vector<uint64_t>{1, 2}), trace_checksum(std::vector<uint64_t>{2, 1}));
   EXPECT_NE(trace_checksum(std::vector<uint64_t>{0}), trace_checksum(std::vector<uint64_t>{}));
