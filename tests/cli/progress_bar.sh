@@ -29,7 +29,8 @@ assert frames, f"no progress frames in {text!r}"
 shares = [int(f[2]) for f in frames]
 assert shares == sorted(shares), shares
 assert shares[-1] == 100 and frames[-1][1] == "#" * 30, frames[-1]
-assert all(abs(len(f[1]) - int(f[2]) * 30 / 100) <= 1 for f in frames), frames
+# The bar is floor(30 f), the percentage round(100 f): they differ by up to 1.15 characters.
+assert all(abs(len(f[1]) - int(f[2]) * 30 / 100) <= 1.2 for f in frames), frames
 assert text.rstrip(" \r").endswith("\n") or text.endswith("\r\n"), repr(text[-40:])
 # Not a terminal: nothing on stderr.
 q = subprocess.run([rtusim] + args + ["--out", f"{tmp}/pipe"], stdout=subprocess.DEVNULL,
