@@ -118,7 +118,8 @@ void install_output_cleanup() {
 
 OutputFiles::OutputFiles(fs::path dir) : dir_(std::move(dir)) {
   std::error_code ec;
-  if (dir_.filename().empty()) dir_ = dir_.parent_path();  // "out/" -> "out"
+  dir_ = fs::absolute(dir_, ec).lexically_normal();  // "out/", "." and ".." get a name
+  if (dir_.filename().empty()) dir_ = dir_.parent_path();
   if (fs::exists(dir_, ec) && !fs::is_directory(dir_, ec))
     throw InputError(dir_.string() + ": exists and is not a directory");
   const fs::path parent = dir_.has_parent_path() ? dir_.parent_path() : fs::path(".");
@@ -160,6 +161,12 @@ void OutputFiles::commit() {
   std::error_code ec;
   const bool existed = fs::exists(dir_, ec);
   std::vector<std::string> subdirs;  // directories of the old output directory to move back
+  // A directory holding the working directory is not swapped away under the process (or a
+  // shell); its files are renamed into it one by one instead, still with the signals blocked.
+  const fs::path cwd = fs::current_path(ec);
+  const bool holds_cwd = existed && !ec &&
+                         std::mismatch(dir_.begin(), dir_.end(), cwd.begin(), cwd.end()).first ==
+                             dir_.end();
   if (existed) {
     // An output directory from before: nothing may stand in the way of an output file, and its
     // other files join the staged ones (hard links) so the exchange keeps them.
@@ -167,6 +174,7 @@ void OutputFiles::commit() {
       if (fs::is_directory(dir_ / n, ec))
         throw InputError((dir_ / n).string() + ": is a directory, cannot write an output file there");
     for (const fs::directory_entry& e : fs::directory_iterator(dir_, ec)) {
+      if (holds_cwd) break;
       const std::string n = e.path().filename().string();
       if (std::find(names_.begin(), names_.end(), n) != names_.end()) continue;
       if (e.is_directory(ec) && !e.is_symlink(ec)) {
@@ -179,7 +187,12 @@ void OutputFiles::commit() {
   }
   {
     const SignalBlock block;
-    if (!existed) {
+    if (holds_cwd) {
+      for (const auto& n : names_)
+        if (::rename((staging_ / n).c_str(), (dir_ / n).c_str()) != 0)
+          throw InputError((dir_ / n).string() + ": cannot write (" + errno_text() + ")");
+      fs::remove_all(staging_, ec);
+    } else if (!existed) {
       if (::rename(staging_.c_str(), dir_.c_str()) != 0)
         throw InputError(dir_.string() + ": cannot create the output directory (" + errno_text() + ")");
     } else {

@@ -26,6 +26,14 @@ if [ $rc -eq 0 ] && [ "$(cat "$tmp/o2/notes.txt")" = mine ] && [ -d "$tmp/o2/sub
    grep -q '"rays.total"' "$tmp/o2/stats.json" && [ -s "$tmp/o2/image.png" ] && [ -z "$(staging)" ]; then ok
 else bad "existing_dir: exit $rc, $(ls -A "$tmp/o2")"; fi
 
+# --out . (the working directory): the directory itself stays (same inode), outputs land in it.
+mkdir -p "$tmp/here" && echo mine > "$tmp/here/notes.txt"
+inode=$(stat -c %i "$tmp/here")
+(cd "$tmp/here" && "$rtusim" run "$D" "${small[@]}" --out . > /dev/null 2>&1); rc=$?
+if [ $rc -eq 0 ] && [ "$(stat -c %i "$tmp/here")" = "$inode" ] && [ -s "$tmp/here/stats.json" ] &&
+   [ "$(cat "$tmp/here/notes.txt")" = mine ] && [ -z "$(staging)" ]; then ok
+else bad "out_cwd: exit $rc, $(ls -A "$tmp/here")"; fi
+
 # Full disk (a 1 KiB file-size limit; writes fail with EFBIG): exit 2, one line, nothing left.
 (trap '' XFSZ; ulimit -f 1; exec "$rtusim" run "$D" "${small[@]}" --out "$tmp/o3") > /dev/null 2> "$tmp/err"; rc=$?
 if [ $rc -eq 2 ] && [ "$(wc -l < "$tmp/err")" -eq 1 ] && grep -q "cannot write" "$tmp/err" &&
