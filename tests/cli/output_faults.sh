@@ -3,7 +3,7 @@
 # directory in the way fails before anything moves, SIGINT/SIGTERM at any moment leaves the
 # complete outputs or none (never a staging directory), and a full disk is a clear exit 2.
 set -uo pipefail
-rtusim=$1; src=$2
+rtusim=$(realpath "$1"); src=$2
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 pass=0; fail=0
 bad() { echo "FAIL $*"; fail=$((fail+1)); }
