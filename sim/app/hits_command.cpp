@@ -1,4 +1,5 @@
 // `rtusim hits`: primary-ray hits in the contract's RTH1 file format.
+#include <cerrno>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
@@ -8,6 +9,7 @@
 #include "app/pipeline.h"
 #include "scene/pinhole_camera.h"
 #include "tracer/host_backend.h"
+#include "util/error.h"
 #include "util/output_files.h"
 
 namespace rtusim {
@@ -46,7 +48,7 @@ int hits_command(const RunOptions& opts) {
   }
   for (const Hit& hit : hits) put_u32(hit.valid() ? hit.triangle : 0xffffffffu);
   out.close();
-  if (!out) throw std::runtime_error("cannot write " + opts.out);
+  if (!out) throw InputError(opts.out + ": cannot write (" + std::strerror(errno) + ")");
   file.commit();
   uint64_t hit_count = 0;
   for (const Hit& hit : hits) hit_count += hit.valid();

@@ -6,6 +6,7 @@
 
 #include "app/commands.h"
 #include "util/error.h"
+#include "util/output_files.h"
 
 int main(int argc, char** argv) {
   using namespace rtusim;
@@ -31,8 +32,9 @@ int main(int argc, char** argv) {
   trace->add_option("--set", trace_opts.overrides, "Override a config key: KEY=VALUE")
       ->allow_extra_args(false);
   trace->add_option("--out", trace_opts.out, "Output trace file")->required();
-  trace->add_option("--format", trace_opts.format, "din (Dinero IV, default) or bin")
-      ->check(CLI::IsMember({"din", "bin"}));
+  trace->add_option("--format", trace_opts.format,
+                    "din (Dinero IV, default), din-sized (din + access size) or bin")
+      ->check(CLI::IsMember({"din", "din-sized", "bin"}));
 
   ReplayOptions replay_opts;
   auto* replay = app.add_subcommand("replay", "Replay a node trace through one cache (l1.*)");
@@ -50,6 +52,22 @@ int main(int argc, char** argv) {
   auto* keys = app.add_subcommand("keys", "List every config key: type, default, range, unit");
   keys->add_option("--format", keys_opts.format, "text (default), json, or markdown (README table)")
       ->check(CLI::IsMember({"text", "json", "markdown"}));
+
+  // An unknown first word is named as such (CLI11 would only say a subcommand is required).
+  if (argc > 1 && argv[1][0] != '-') {
+    std::string names;
+    bool known = false;
+    for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
+      known |= sub->get_name() == argv[1];
+      names += (names.empty() ? "" : ", ") + sub->get_name();
+    }
+    if (!known) {
+      std::cerr << "rtusim: unknown subcommand '" << argv[1] << "' (one of " << names
+                << "; see rtusim --help)\n";
+      return 2;
+    }
+  }
+  install_output_cleanup();
 
   try {
     app.parse(argc, argv);

@@ -8,6 +8,7 @@
 #include "layout/layout.h"
 #include "layout/profile_layout.h"
 #include "scene/load_scene.h"
+#include "scene/pinhole_camera.h"
 #include "util/error.h"
 
 namespace rtusim {
@@ -40,6 +41,8 @@ Prepared prepare_run(const std::string& config_path, const std::vector<std::stri
   p.scene_load_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   p.camera = select_camera(p.config, p.scene);
+  if (const std::string why = camera_problem(p.camera); !why.empty())
+    throw InputError(config_path + ": " + (p.config.camera ? "camera" : "scene.camera") + ": " + why);
   p.tree = build_sah_kd_tree(p.scene, p.config.kdtree);
   for (const auto& kind : p.config.layout.kinds) {
     const std::unique_ptr<Layout> layout = make_layout(kind);

@@ -11,7 +11,9 @@
 namespace rtusim {
 
 int trace_command(const TraceOptions& opts) {
-  const TraceFormat format = opts.format == "bin" ? TraceFormat::kBin : TraceFormat::kDin;
+  const TraceFormat format = opts.format == "bin"         ? TraceFormat::kBin
+                             : opts.format == "din-sized" ? TraceFormat::kDinSized
+                                                          : TraceFormat::kDin;
   OutputFile file(opts.out);  // checks the directory before any work
   {
     // The layout check before the scene is loaded and the tree built.

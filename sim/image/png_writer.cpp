@@ -2,10 +2,14 @@
 #include "image/png_writer.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 
 #include <stb_image_write.h>
+
+#include "util/error.h"
 
 namespace rtusim {
 
@@ -24,7 +28,7 @@ std::vector<unsigned char> to_srgb8(const std::vector<glm::vec3>& linear) {
 void write_png(const std::string& path, int width, int height,
                const std::vector<unsigned char>& rgb8) {
   if (!stbi_write_png(path.c_str(), width, height, 3, rgb8.data(), width * 3))
-    throw std::runtime_error("cannot write PNG " + path);
+    throw InputError(path + ": cannot write PNG (" + std::strerror(errno) + ")");
 }
 
 }  // namespace rtusim

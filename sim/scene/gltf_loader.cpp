@@ -5,13 +5,17 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <functional>
+#include <fstream>
+#include <iterator>
 #include <limits>
 #include <string>
+#include <string_view>
 #include <vector>
 
+#include <glm/gtc/constants.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -130,6 +134,62 @@ glm::vec3 read_vec3(const AccessorView& a, size_t i) {
   return {read_component(a, i, 0), read_component(a, i, 1), read_component(a, i, 2)};
 }
 
+// The deepest JSON nesting of `text` (arrays and objects), strings skipped; stops counting
+// once `limit` is passed.
+int json_depth(std::string_view text, int limit) {
+  int depth = 0, deepest = 0;
+  bool in_string = false;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (in_string) {
+      if (c == '\\') ++i;
+      else if (c == '"') in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      deepest = std::max(deepest, ++depth);
+      if (deepest > limit) break;
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+  return deepest;
+}
+
+uint32_t le_u32(const unsigned char* p) {
+  return uint32_t{p[0]} | uint32_t{p[1]} << 8 | uint32_t{p[2]} << 16 | uint32_t{p[3]} << 24;
+}
+
+// What tinygltf would trip over, checked first: a .glb's header and version, and JSON nested so
+// deep that the recursive JSON parser would overflow the stack.
+void check_json_before_parse(const std::string& path, bool glb, const SceneLimits& limits) {
+  std::ifstream in(path, std::ios::binary);
+  std::string json;
+  if (glb) {
+    unsigned char head[20] = {};
+    in.read(reinterpret_cast<char*>(head), sizeof head);
+    if (in.gcount() < 20) throw InputError(path + ": truncated .glb (" + std::to_string(in.gcount()) +
+                                           " bytes, shorter than its 20-byte header)");
+    if (std::memcmp(head, "glTF", 4) != 0) throw InputError(path + ": not a .glb (bad magic)");
+    if (le_u32(head + 4) != 2)
+      throw InputError(path + ": unsupported .glb version " + std::to_string(le_u32(head + 4)) +
+                       " (need 2)");
+    const uint32_t json_bytes = le_u32(head + 12);
+    if (le_u32(head + 16) != 0x4E4F534Au)
+      throw InputError(path + ": .glb's first chunk is not JSON");
+    if (json_bytes > limits.max_scene_bytes)
+      throw InputError(path + ": .glb JSON chunk of " + std::to_string(json_bytes) + " bytes");
+    json.resize(json_bytes);
+    in.read(json.data(), json_bytes);
+    json.resize(static_cast<size_t>(in.gcount()));
+  } else {
+    json.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  if (json_depth(json, limits.max_json_depth) > limits.max_json_depth)
+    throw InputError(path + ": JSON nested deeper than " + std::to_string(limits.max_json_depth) +
+                     " levels");
+}
+
 // A node instance reached by the traversal, with its world transform.
 struct NodeInstance {
   int node = -1;
@@ -138,8 +198,8 @@ struct NodeInstance {
 
 class GltfFlattener {
  public:
-  GltfFlattener(const std::string& path, const tinygltf::Model& model)
-      : path_(path), model_(model) {}
+  GltfFlattener(const std::string& path, const tinygltf::Model& model, const SceneLimits& limits)
+      : path_(path), model_(model), limits_(limits) {}
 
   Scene run() {
     Scene scene;
@@ -168,7 +228,7 @@ class GltfFlattener {
     const std::string ctx = "node " + std::to_string(index) + ": ";
     if (!node.matrix.empty()) {
       if (node.matrix.size() != 16) fail(ctx + "matrix needs 16 numbers");
-      return glm::make_mat4(node.matrix.data());
+      return checked_transform(glm::make_mat4(node.matrix.data()), ctx);
     }
     glm::dmat4 m(1.0);
     if (!node.translation.empty()) {
@@ -188,6 +248,16 @@ class GltfFlattener {
       if (node.scale.size() != 3) fail(ctx + "scale needs 3 numbers");
       m = glm::scale(m, glm::dvec3(node.scale[0], node.scale[1], node.scale[2]));
     }
+    return checked_transform(m, ctx);
+  }
+
+  // A transform must be finite and invertible (a scale of 0 flattens the geometry).
+  glm::dmat4 checked_transform(const glm::dmat4& m, const std::string& ctx) const {
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 4; ++r)
+        if (!std::isfinite(m[c][r])) fail(ctx + "transform holds a non-finite number");
+    const double det = glm::determinant(glm::dmat3(m));
+    if (!(std::abs(det) > 0.0)) fail(ctx + "transform is singular (a scale of 0?)");
     return m;
   }
 
@@ -216,25 +286,46 @@ class GltfFlattener {
     return roots;
   }
 
-  // Depth-first traversal, children in order; world = parent * local.
+  // Depth-first traversal, children in order; world = parent * local. An explicit stack, so a
+  // deep hierarchy cannot overflow the call stack; instances are capped (kMaxInstances).
   void collect_instances() {
     const int node_count = static_cast<int>(model_.nodes.size());
     std::vector<bool> on_path(model_.nodes.size(), false);
-    std::function<void(int, const glm::dmat4&)> visit = [&](int n, const glm::dmat4& parent) {
+    struct Frame {
+      int node;
+      size_t next_child;
+      glm::dmat4 world;
+    };
+    std::vector<Frame> stack;
+    auto enter = [&](int n, const glm::dmat4& parent) {
       if (on_path[static_cast<size_t>(n)]) fail("node " + std::to_string(n) + " is its own ancestor");
       const tinygltf::Node& node = model_.nodes[static_cast<size_t>(n)];
-      const glm::dmat4 world = parent * local_transform(node, n);
+      const glm::dmat4 local = local_transform(node, n);
+      const glm::dmat4 world = parent * local;
+      if (instances_.size() >= kMaxInstances)
+        fail("more than " + std::to_string(kMaxInstances) + " node instances in the default scene");
       instances_.push_back({n, world});
       on_path[static_cast<size_t>(n)] = true;
-      for (int c : node.children) {
-        if (c < 0 || c >= node_count)
-          fail("node " + std::to_string(n) + ": child " + std::to_string(c) + " out of range (" +
-               std::to_string(node_count) + " nodes)");
-        visit(c, world);
-      }
-      on_path[static_cast<size_t>(n)] = false;
+      stack.push_back({n, 0, world});
     };
-    for (int r : root_nodes()) visit(r, glm::dmat4(1.0));
+    for (int r : root_nodes()) {
+      enter(r, glm::dmat4(1.0));
+      while (!stack.empty()) {
+        Frame& f = stack.back();
+        const tinygltf::Node& node = model_.nodes[static_cast<size_t>(f.node)];
+        if (f.next_child == node.children.size()) {
+          on_path[static_cast<size_t>(f.node)] = false;
+          stack.pop_back();
+          continue;
+        }
+        const int c = node.children[f.next_child++];
+        if (c < 0 || c >= node_count)
+          fail("node " + std::to_string(f.node) + ": child " + std::to_string(c) +
+               " out of range (" + std::to_string(node_count) + " nodes)");
+        const glm::dmat4 world = f.world;  // `f` dangles once enter() grows the stack
+        enter(c, world);
+      }
+    }
   }
 
   // Materials keep their glTF indices; the glTF default material is appended on demand.
@@ -327,15 +418,20 @@ class GltfFlattener {
         if (pos == p.attributes.end() || pos->second < 0 ||
             pos->second >= static_cast<int>(model_.accessors.size()))
           continue;
-        size_t n = model_.accessors[static_cast<size_t>(pos->second)].count;
+        // Counts are checked against their buffers before anything is allocated from them.
+        size_t n = view_of(pos->second, "POSITION").count;
         vertices += n;
-        if (p.indices >= 0 && p.indices < static_cast<int>(model_.accessors.size()))
-          n = model_.accessors[static_cast<size_t>(p.indices)].count;
+        if (p.indices >= 0) n = view_of(p.indices, "indices").count;
         if (p.mode == TINYGLTF_MODE_TRIANGLES || p.mode == -1) triangles += n / 3;
         else if (p.mode == TINYGLTF_MODE_TRIANGLE_STRIP || p.mode == TINYGLTF_MODE_TRIANGLE_FAN)
           triangles += n >= 3 ? n - 2 : 0;
       }
     }
+    const uint64_t bytes = uint64_t{vertices} * 2 * sizeof(glm::vec3) +
+                           uint64_t{triangles} * (sizeof(scene.triangles[0]) + sizeof(uint32_t));
+    if (bytes > limits_.max_scene_bytes)
+      fail("the scene needs " + std::to_string(bytes >> 20) + " MiB of geometry, over the limit of " +
+           std::to_string(limits_.max_scene_bytes >> 20) + " MiB (RTUSIM_MAX_SCENE_MB)");
     scene.positions.reserve(vertices);
     scene.normals.reserve(vertices);
     scene.triangles.reserve(triangles);
@@ -398,7 +494,11 @@ class GltfFlattener {
     const bool identity = inst.world == glm::dmat4(1.0);
     for (size_t i = 0; i < pos.count; ++i) {
       const glm::vec3 p = read_vec3(pos, i);
-      scene.positions.push_back(identity ? p : glm::vec3(inst.world * glm::dvec4(p, 1.0)));
+      const glm::vec3 w = identity ? p : glm::vec3(inst.world * glm::dvec4(p, 1.0));
+      if (!std::isfinite(w.x) || !std::isfinite(w.y) || !std::isfinite(w.z))
+        fail("accessor " + std::to_string(pos_it->second) + " (POSITION " + where + "): element " +
+             std::to_string(i) + " is not a finite position");
+      scene.positions.push_back(w);
       if (!has_normals) {
         scene.normals.emplace_back(0.0f);
         continue;
@@ -478,6 +578,10 @@ class GltfFlattener {
     const glm::dmat3 linear(inst.world);
     const glm::dvec3 eye(inst.world * glm::dvec4(0.0, 0.0, 0.0, 1.0));
     const glm::dvec3 forward = glm::normalize(linear * glm::dvec3(0.0, 0.0, -1.0));
+    const double yfov = cam.perspective.yfov;
+    if (!(yfov > 0.0 && yfov < glm::pi<double>()))
+      fail("camera " + std::to_string(node.camera) + ": yfov " + std::to_string(yfov) +
+           " rad is not in (0, pi)");
     CameraDesc out;
     out.name = !node.name.empty() ? node.name
                : !cam.name.empty() ? cam.name
@@ -515,20 +619,41 @@ class GltfFlattener {
     return true;
   }
 
+  static constexpr size_t kMaxInstances = size_t{1} << 20;
+
   const std::string& path_;
   const tinygltf::Model& model_;
+  const SceneLimits& limits_;
   std::vector<NodeInstance> instances_;
   int default_material_ = -1;
 };
 
 }  // namespace
 
-Scene load_gltf(const std::string& path) {
+SceneLimits SceneLimits::from_environment() {
+  SceneLimits l;
+  if (const char* mb = std::getenv("RTUSIM_MAX_SCENE_MB")) {
+    char* end = nullptr;
+    const unsigned long long v = std::strtoull(mb, &end, 10);
+    if (end == mb || *end != '\0' || v == 0 || v > (uint64_t{1} << 40))
+      throw InputError(std::string("RTUSIM_MAX_SCENE_MB: '") + mb + "' is not a size in MiB");
+    l.max_scene_bytes = uint64_t{v} << 20;
+  }
+  return l;
+}
+
+Scene load_gltf(const std::string& path, const SceneLimits& limits) {
   const std::string ext = lower(std::filesystem::path(path).extension().string());
   if (ext != ".gltf" && ext != ".glb")
     throw InputError(path + ": unknown scene file extension '" + ext + "' (need .gltf or .glb)");
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path + ": file not found");
+  const uint64_t file_bytes = std::filesystem::file_size(path, ec);
+  if (ec) throw InputError(path + ": cannot read the file");
+  if (file_bytes > limits.max_scene_bytes)
+    throw InputError(path + ": " + std::to_string(file_bytes >> 20) + " MiB file, over the limit of " +
+                     std::to_string(limits.max_scene_bytes >> 20) + " MiB (RTUSIM_MAX_SCENE_MB)");
+  check_json_before_parse(path, ext == ".glb", limits);
 
   // Parse with tinygltf; images are left undecoded and a missing image is only a warning.
   tinygltf::TinyGLTF loader;
@@ -541,7 +666,7 @@ Scene load_gltf(const std::string& path) {
   if (!ok)
     throw InputError(path + ": cannot parse glTF: " + one_line(err.empty() ? "unknown error" : err));
 
-  return GltfFlattener(path, model).run();
+  return GltfFlattener(path, model, limits).run();
 }
 
 }  // namespace rtusim

@@ -1,6 +1,7 @@
 // The contract's pinhole camera: primary ray for pixel (x, y), y = 0 the top row.
 #pragma once
 #include <cmath>
+#include <string>
 
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
@@ -10,6 +11,24 @@
 #include "scene/scene.h"
 
 namespace rtusim {
+
+// What makes `desc` unusable as a pinhole camera, or "" when it is fine: eye equal to target,
+// up zero or parallel to the view direction, a field of view outside (0, 180) degrees, or a
+// non-finite number.
+inline std::string camera_problem(const CameraDesc& desc) {
+  const glm::vec3 v[] = {desc.eye, desc.target, desc.up};
+  for (const glm::vec3& x : v)
+    if (!std::isfinite(x.x) || !std::isfinite(x.y) || !std::isfinite(x.z))
+      return "eye, target and up must be finite";
+  const glm::vec3 f = desc.target - desc.eye;
+  if (!(glm::length(f) > 0.0f)) return "eye equals target (no view direction)";
+  if (!(glm::length(desc.up) > 0.0f)) return "up is the zero vector";
+  const glm::vec3 r = glm::cross(glm::normalize(f), glm::normalize(desc.up));
+  if (!(glm::length(r) > 1e-6f)) return "up is parallel to the view direction (target - eye)";
+  if (!(desc.vfov_deg > 0.0f && desc.vfov_deg < 180.0f))
+    return "vertical field of view " + std::to_string(desc.vfov_deg) + " deg is not in (0, 180)";
+  return "";
+}
 
 class PinholeCamera {
  public:

@@ -23,6 +23,7 @@ class ProgressBackend final : public TraceBackend {
   bool enabled_;
   bool drawn_ = false;
   std::chrono::steady_clock::time_point start_, last_draw_;
+  double quiet_seconds_;  // nothing drawn before this
 };
 
 }  // namespace rtusim

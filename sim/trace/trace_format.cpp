@@ -1,8 +1,9 @@
 // Trace files: din and bin writers, and the checking reader.
 #include "trace/trace_format.h"
 
+#include <algorithm>
+#include <cerrno>
 #include <cstring>
-#include <fstream>
 #include <stdexcept>
 
 #include "util/error.h"
@@ -58,14 +59,12 @@ TraceWriter::TraceWriter(const std::filesystem::path& path, TraceFormat format,
       scene_hash_(scene_hash), buf_(kBufferBytes) {
   if (layout_.empty() || layout_.size() > kMaxLayoutNameBytes)
     throw std::logic_error("trace: layout name '" + layout_ + "' does not fit the bin header");
-  file_ = std::fopen(path_.c_str(), "wb");
-  if (!file_) throw std::runtime_error("cannot open " + path_.string() + " for writing");
+  file_.reset(std::fopen(path_.c_str(), "wb"));
+  if (!file_) throw InputError(path_.string() + ": cannot open for writing (" + std::strerror(errno) + ")");
   if (format_ == TraceFormat::kBin) write_header();  // placeholder; finish() rewrites it
 }
 
-TraceWriter::~TraceWriter() {
-  if (file_) std::fclose(file_);
-}
+TraceWriter::~TraceWriter() = default;
 
 void TraceWriter::append_din(uint64_t addr) {
   static constexpr char kHex[] = "0123456789abcdef";
@@ -79,14 +78,23 @@ void TraceWriter::append_din(uint64_t addr) {
   *p++ = '0';
   *p++ = ' ';
   while (n > 0) *p++ = static_cast<uint8_t>(digits[--n]);
+  if (format_ == TraceFormat::kDinSized) {
+    uint32_t size = node_bytes_;
+    do {
+      digits[n++] = kHex[size & 15];
+      size >>= 4;
+    } while (size != 0);
+    *p++ = ' ';
+    while (n > 0) *p++ = static_cast<uint8_t>(digits[--n]);
+  }
   *p++ = '\n';
   used_ = static_cast<size_t>(p - buf_.data());
 }
 
 void TraceWriter::flush_buffer() {
   if (used_ == 0) return;
-  if (std::fwrite(buf_.data(), 1, used_, file_) != used_)
-    throw std::runtime_error("cannot write " + path_.string());
+  if (std::fwrite(buf_.data(), 1, used_, file_.get()) != used_)
+    throw InputError(path_.string() + ": cannot write (" + std::strerror(errno) + ")");
   payload_bytes_ += used_;
   used_ = 0;
 }
@@ -102,39 +110,65 @@ void TraceWriter::write_header() {
   put_u64(&h[40], payload_bytes_);
   put_u32(&h[48], static_cast<uint32_t>(layout_.size()));
   std::memcpy(&h[52], layout_.data(), layout_.size());
-  if (std::fseek(file_, 0, SEEK_SET) != 0 || std::fwrite(h.data(), 1, h.size(), file_) != h.size())
-    throw std::runtime_error("cannot write " + path_.string());
+  if (std::fseek(file_.get(), 0, SEEK_SET) != 0 || std::fwrite(h.data(), 1, h.size(), file_.get()) != h.size())
+    throw InputError(path_.string() + ": cannot write (" + std::strerror(errno) + ")");
 }
 
 void TraceWriter::finish() {
   flush_buffer();
   if (format_ == TraceFormat::kBin) write_header();
-  const bool ok = std::fflush(file_) == 0;
-  const bool closed = std::fclose(file_) == 0;
-  file_ = nullptr;
-  if (!ok || !closed) throw std::runtime_error("cannot write " + path_.string());
+  const bool ok = std::fflush(file_.get()) == 0;
+  const bool closed = std::fclose(file_.release()) == 0;
+  if (!ok || !closed) throw InputError(path_.string() + ": cannot write (" + std::strerror(errno) + ")");
 }
 
 // ---- reader ----
 
-TraceReader::TraceReader(const std::filesystem::path& path) : name_(path.string()) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) fail("cannot open trace file");
-  in.seekg(0, std::ios::end);
-  const std::streamoff size = in.tellg();
-  if (size < 0) fail("cannot read trace file");
-  in.seekg(0);
-  data_.resize(static_cast<size_t>(size));
-  if (size > 0 && !in.read(reinterpret_cast<char*>(data_.data()), size))
-    fail("cannot read trace file");
-  if (data_.size() >= 8 && std::memcmp(data_.data(), kBinMagic, 8) == 0) {
-    parse_bin_header();
-  } else if (!data_.empty() && (data_[0] == '0' || data_[0] == '1' || data_[0] == '2')) {
-    header_.format = TraceFormat::kDin;  // count filled in by decode()
-  } else if (data_.size() < 8 && !data_.empty() &&
-             std::memcmp(data_.data(), kBinMagic, data_.size()) == 0) {
-    fail("truncated: " + std::to_string(data_.size()) + " bytes, shorter than the bin header");
-  } else if (data_.empty()) {
+namespace {
+
+constexpr size_t kReadBytes = size_t{1} << 20;  // file bytes per read
+constexpr size_t kMaxDinLineBytes = 4096;       // a longer din line is an error
+
+// `c` for a message: printable ASCII as is, anything else (NUL, control, 8-bit) as \xNN.
+std::string printable(char c) {
+  const auto u = static_cast<unsigned char>(c);
+  if (u >= 0x20 && u < 0x7f) return std::string(1, c);
+  char s[8];
+  std::snprintf(s, sizeof s, "\\x%02x", u);
+  return s;
+}
+
+}  // namespace
+
+TraceReader::TraceReader(const std::filesystem::path& path) : path_(path), name_(path.string()) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path_, ec)) fail("is a directory, not a trace file");
+  file_.reset(std::fopen(path_.c_str(), "rb"));
+  if (!file_) fail("cannot open trace file");
+  const uint64_t size = std::filesystem::file_size(path_, ec);
+  if (ec) fail("cannot read trace file");
+  // The buffer: the whole file when it is small, else one read's worth plus a din line.
+  buf_.resize(static_cast<size_t>(std::min<uint64_t>(size, kReadBytes)) + kMaxDinLineBytes + 16);
+  file_left_ = size;
+  uint8_t head[kBinFixedHeaderBytes];
+  const size_t got = std::fread(head, 1, sizeof head, file_.get());
+  if (got >= 8 && std::memcmp(head, kBinMagic, 8) == 0) {
+    if (got < kBinFixedHeaderBytes)
+      fail("truncated: " + std::to_string(got) + " bytes, shorter than the " +
+           std::to_string(kBinFixedHeaderBytes) + "-byte bin header");
+    std::memcpy(buf_.data(), head, got);
+    end_ = got;
+    file_left_ = size - got;
+    parse_bin_header(size);
+  } else if (got > 0 && (head[0] == '0' || head[0] == '1' || head[0] == '2' || head[0] == ' ' ||
+                         head[0] == '\t' || head[0] == '\n' || head[0] == '\r')) {
+    header_.format = TraceFormat::kDin;  // count filled in as lines are read
+    std::memcpy(buf_.data(), head, got);
+    end_ = got;
+    file_left_ = size >= got ? size - got : 0;
+  } else if (got < 8 && got > 0 && std::memcmp(head, kBinMagic, got) == 0) {
+    fail("truncated: " + std::to_string(got) + " bytes, shorter than the bin header");
+  } else if (got == 0) {
     fail("empty file (neither a bin nor a din trace)");
   } else {
     fail("bad magic: not an RTUTRACE bin trace, and not a din trace (lines '0 <hex address>')");
@@ -143,17 +177,17 @@ TraceReader::TraceReader(const std::filesystem::path& path) : name_(path.string(
 
 void TraceReader::fail(const std::string& what) const { throw InputError(name_ + ": " + what); }
 
-void TraceReader::parse_bin_header() {
+void TraceReader::parse_bin_header(uint64_t file_bytes) {
   header_.format = TraceFormat::kBin;
-  if (data_.size() < kBinFixedHeaderBytes)
-    fail("truncated: " + std::to_string(data_.size()) + " bytes, shorter than the " +
-         std::to_string(kBinFixedHeaderBytes) + "-byte bin header");
-  const uint8_t* p = data_.data();
+  const uint8_t* p = buf_.data();
   header_.version = get_u32(p + 8);
   if (header_.version != kBinVersion)
     fail("unsupported bin trace version " + std::to_string(header_.version) + " (this build reads " +
          std::to_string(kBinVersion) + ")");
   header_.node_bytes = get_u32(p + 12);
+  if (header_.node_bytes == 0 || header_.node_bytes > kMaxFetchBytes)
+    fail("bad header: node size " + std::to_string(header_.node_bytes) + " bytes (need 1.." +
+         std::to_string(kMaxFetchBytes) + ")");
   header_.scene_hash = get_u64(p + 16);
   header_.count = get_u64(p + 24);
   header_.checksum = get_u64(p + 32);
@@ -161,11 +195,15 @@ void TraceReader::parse_bin_header() {
   const uint32_t name_len = get_u32(p + 48);
   if (name_len == 0 || name_len > kMaxLayoutNameBytes)
     fail("bad header: layout name length " + std::to_string(name_len));
-  if (data_.size() < kBinFixedHeaderBytes + uint64_t{name_len})
+  char name[kMaxLayoutNameBytes];
+  if (std::fread(name, 1, name_len, file_.get()) != name_len)
     fail("truncated: the header's layout name is cut off");
-  header_.layout.assign(reinterpret_cast<const char*>(p + kBinFixedHeaderBytes), name_len);
-  payload_offset_ = kBinFixedHeaderBytes + name_len;
-  const uint64_t have = data_.size() - payload_offset_;
+  header_.layout.assign(name, name_len);
+  for (const char c : header_.layout)
+    if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) >= 0x7f)
+      fail("bad header: layout name holds byte " + printable(c));
+  const uint64_t payload_offset = kBinFixedHeaderBytes + uint64_t{name_len};
+  const uint64_t have = file_bytes - payload_offset;
   if (have < header_.payload_bytes)
     fail("truncated: payload has " + std::to_string(have) + " of " +
          std::to_string(header_.payload_bytes) + " bytes");
@@ -175,77 +213,181 @@ void TraceReader::parse_bin_header() {
   if (header_.count > header_.payload_bytes || header_.payload_bytes > 10 * header_.count)
     fail("bad header: " + std::to_string(header_.count) + " records cannot take " +
          std::to_string(header_.payload_bytes) + " payload bytes");
+  pos_ = end_ = 0;
+  file_left_ = header_.payload_bytes;
 }
 
-std::vector<uint64_t> TraceReader::decode() const {
-  return header_.format == TraceFormat::kBin ? decode_bin() : decode_din();
-}
-
-std::vector<uint64_t> TraceReader::decode_bin() const {
-  std::vector<uint64_t> out(header_.count);
-  const uint8_t* p = data_.data() + payload_offset_;
-  const uint8_t* const end = p + header_.payload_bytes;
-  uint64_t prev = 0, h = kFnvOffset;
-  for (uint64_t i = 0; i < header_.count; ++i) {
-    uint64_t z = 0;
-    int shift = 0;
-    for (;;) {
-      if (p == end) fail("truncated: payload ends inside record " + std::to_string(i) + " of " +
-                         std::to_string(header_.count));
-      const uint8_t b = *p++;
-      if (shift == 63 && b > 1) fail("bad varint in record " + std::to_string(i));
-      z |= uint64_t{b & 0x7fu} << shift;
-      if (!(b & 0x80)) break;
-      shift += 7;
-      if (shift > 63) fail("bad varint in record " + std::to_string(i));
-    }
-    prev += (z >> 1) ^ (0 - (z & 1));  // zig-zag back to the signed difference
-    out[i] = prev;
-    h = (h ^ prev) * kFnvPrime;
+bool TraceReader::refill() {
+  if (file_left_ == 0) return false;
+  if (pos_ > 0) {
+    std::memmove(buf_.data(), buf_.data() + pos_, end_ - pos_);
+    end_ -= pos_;
+    pos_ = 0;
   }
-  if (p != end)
-    fail("payload holds " + std::to_string(end - p) + " bytes beyond the header's " +
-         std::to_string(header_.count) + " records");
-  if (h != header_.checksum)
-    fail("checksum mismatch: header " + hex64(header_.checksum) + ", addresses " + hex64(h));
-  return out;
+  const size_t want = static_cast<size_t>(std::min<uint64_t>(file_left_, buf_.size() - end_));
+  if (want == 0) return false;
+  const size_t got = std::fread(buf_.data() + end_, 1, want, file_.get());
+  if (got == 0) fail("cannot read trace file (it shrank while being read)");
+  end_ += got;
+  file_left_ -= got;
+  return true;
 }
 
-std::vector<uint64_t> TraceReader::decode_din() const {
-  std::vector<uint64_t> out;
-  const char* p = reinterpret_cast<const char*>(data_.data());
-  const char* const end = p + data_.size();
-  uint64_t line = 0;
-  while (p < end) {
-    ++line;
+bool TraceReader::next(std::vector<uint64_t>& addrs, std::vector<uint32_t>& sizes,
+                       size_t max_records) {
+  sizes.clear();
+  if (done_) {
+    addrs.clear();
+    return false;
+  }
+  return header_.format == TraceFormat::kBin ? next_bin(addrs, max_records)
+                                             : next_din(addrs, sizes, max_records);
+}
+
+// One varint record at p (advanced past it), as the signed difference it encodes. kChecked:
+// stop at `end` (else the caller guarantees 10 readable bytes).
+template <bool kChecked>
+uint64_t TraceReader::read_varint(const uint8_t*& p, const uint8_t* end, uint64_t record) const {
+  uint64_t z = 0;
+  for (int shift = 0;; shift += 7) {
+    if (kChecked && p == end)
+      fail("truncated: payload ends inside record " + std::to_string(record) + " of " +
+           std::to_string(header_.count));
+    const uint8_t b = *p++;
+    if (shift == 63 && b > 1) fail("bad varint in record " + std::to_string(record));
+    z |= uint64_t{b & 0x7fu} << shift;
+    if (!(b & 0x80)) break;
+    if (shift == 63) fail("bad varint in record " + std::to_string(record));
+  }
+  return (z >> 1) ^ (0 - (z & 1));  // zig-zag back to the signed difference
+}
+
+bool TraceReader::next_bin(std::vector<uint64_t>& addrs, size_t max_records) {
+  const uint64_t want = std::min<uint64_t>(max_records, header_.count - records_);
+  addrs.resize(static_cast<size_t>(want));  // from the last chunk's size: rarely writes
+  uint64_t* out = addrs.data();
+  uint64_t prev = prev_, h = hash_;
+  size_t n = 0;
+  while (n < want) {
+    if (end_ - pos_ < 10) refill();
+    const uint8_t* p = buf_.data() + pos_;
+    const uint8_t* const end = buf_.data() + end_;
+    if (end - p >= 10) {
+      // Records whose 10 bytes are all in the buffer: no bounds check per byte.
+      const uint8_t* const safe = end - 9;
+      while (n < want && p < safe) {
+        prev += read_varint<false>(p, end, records_ + n);
+        out[n++] = prev;
+        h = (h ^ prev) * kFnvPrime;
+      }
+    } else {
+      // The payload's last few bytes: one record, checked byte by byte.
+      prev += read_varint<true>(p, end, records_ + n);
+      out[n++] = prev;
+      h = (h ^ prev) * kFnvPrime;
+    }
+    pos_ = static_cast<size_t>(p - buf_.data());
+  }
+  prev_ = prev;
+  hash_ = h;
+  records_ += n;
+  if (records_ == header_.count) {
+    // The end: nothing may follow the last record, and the checksum must match.
+    const uint64_t left = (end_ - pos_) + file_left_;
+    if (left != 0)
+      fail("payload holds " + std::to_string(left) + " bytes beyond the header's " +
+           std::to_string(header_.count) + " records");
+    if (hash_ != header_.checksum)
+      fail("checksum mismatch: header " + hex64(header_.checksum) + ", addresses " + hex64(hash_));
+    done_ = true;
+  }
+  return n > 0;
+}
+
+bool TraceReader::next_din(std::vector<uint64_t>& addrs, std::vector<uint32_t>& sizes,
+                           size_t max_records) {
+  addrs.clear();
+  while (addrs.size() < max_records) {
+    const char* p = reinterpret_cast<const char*>(buf_.data()) + pos_;
+    const char* end = reinterpret_cast<const char*>(buf_.data()) + end_;
     const char* eol = static_cast<const char*>(std::memchr(p, '\n', size_t(end - p)));
-    if (!eol) eol = end;
-    const char* q = p;
-    p = eol + 1;
-    if (q < eol && eol[-1] == '\r') --eol;
+    if (!eol) {
+      if (end_ - pos_ > kMaxDinLineBytes)
+        fail("line " + std::to_string(line_ + 1) + ": longer than " +
+             std::to_string(kMaxDinLineBytes) + " bytes");
+      if (refill()) continue;
+      if (pos_ == end_) {
+        done_ = true;
+        break;
+      }
+      eol = end;  // the last line has no newline
+    }
+    ++line_;
+    if (size_t(eol - p) > kMaxDinLineBytes)
+      fail("line " + std::to_string(line_) + ": longer than " + std::to_string(kMaxDinLineBytes) +
+           " bytes");
+    pos_ = static_cast<size_t>(eol - reinterpret_cast<const char*>(buf_.data())) + (eol < end);
+    din_line(p, eol, addrs, sizes);
+  }
+  records_ += addrs.size();
+  header_.count = records_;
+  if (!sizes.empty()) sizes.resize(addrs.size(), 0);
+  return !addrs.empty();
+}
+
+// One din line [q, eol): blank, or label, hex address and an optional hex size.
+void TraceReader::din_line(const char* q, const char* eol, std::vector<uint64_t>& addrs,
+                           std::vector<uint32_t>& sizes) {
+  auto at = [this] { return "line " + std::to_string(line_) + ": "; };
+  if (q < eol && eol[-1] == '\r') --eol;
+  auto skip_blanks = [&] {
     while (q < eol && (*q == ' ' || *q == '\t')) ++q;
-    if (q == eol) continue;  // blank line
-    if (!(*q == '0' || *q == '1' || *q == '2') || q + 1 == eol || (q[1] != ' ' && q[1] != '\t'))
-      fail("line " + std::to_string(line) + ": expected '<label 0-2> <hex address>'");
-    q += 2;
-    while (q < eol && (*q == ' ' || *q == '\t')) ++q;
+  };
+  // A hex number of 1..max_digits digits, ending at a blank or the line's end.
+  auto hex = [&](const char* what, int max_digits) {
     if (q + 1 < eol && q[0] == '0' && (q[1] == 'x' || q[1] == 'X')) q += 2;
-    uint64_t a = 0;
+    uint64_t v = 0;
     int digits = 0;
     for (; q < eol && *q != ' ' && *q != '\t'; ++q, ++digits) {
       const char c = *q;
-      int v;
-      if (c >= '0' && c <= '9') v = c - '0';
-      else if (c >= 'a' && c <= 'f') v = c - 'a' + 10;
-      else if (c >= 'A' && c <= 'F') v = c - 'A' + 10;
-      else fail("line " + std::to_string(line) + ": '" + std::string(1, c) + "' is not a hex digit");
-      a = (a << 4) | static_cast<uint64_t>(v);
+      int d;
+      if (c >= '0' && c <= '9') d = c - '0';
+      else if (c >= 'a' && c <= 'f') d = c - 'a' + 10;
+      else if (c >= 'A' && c <= 'F') d = c - 'A' + 10;
+      else fail(at() + "'" + printable(c) + "' is not a hex digit");
+      v = (v << 4) | static_cast<uint64_t>(d);
     }
-    if (digits == 0 || digits > 16)
-      fail("line " + std::to_string(line) + ": expected a hex address of 1 to 16 digits");
-    out.push_back(a);
+    if (digits == 0 || digits > max_digits)
+      fail(at() + "expected a hex " + what + " of 1 to " + std::to_string(max_digits) + " digits");
+    return v;
+  };
+  skip_blanks();
+  if (q == eol) return;  // blank line
+  if (!(*q == '0' || *q == '1' || *q == '2') || q + 1 == eol || (q[1] != ' ' && q[1] != '\t'))
+    fail(at() + "expected '<label 0-2> <hex address> [<hex size>]'");
+  q += 2;
+  skip_blanks();
+  const uint64_t a = hex("address", 16);
+  skip_blanks();
+  if (q != eol) {
+    const uint64_t size = hex("size", 8);
+    if (size == 0 || size > kMaxFetchBytes)
+      fail(at() + "access size " + std::to_string(size) + " bytes (need 1.." +
+           std::to_string(kMaxFetchBytes) + ")");
+    skip_blanks();
+    if (q != eol) fail(at() + "unexpected '" + printable(*q) + "' after the size");
+    sizes.resize(addrs.size(), 0);
+    sizes.push_back(static_cast<uint32_t>(size));
   }
-  return out;
+  addrs.push_back(a);
+}
+
+std::vector<uint64_t> TraceReader::decode() const {
+  TraceReader again(path_);
+  std::vector<uint64_t> all, chunk;
+  std::vector<uint32_t> sizes;
+  while (again.next(chunk, sizes, size_t{1} << 16)) all.insert(all.end(), chunk.begin(), chunk.end());
+  return all;
 }
 
 }  // namespace rtusim

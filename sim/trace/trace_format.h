@@ -32,6 +32,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -40,7 +41,15 @@
 
 namespace rtusim {
 
-enum class TraceFormat { kDin, kBin };
+// kDinSized: din lines with a third field, the fetch's bytes in hex ("0 1a40 c"): Dinero IV's
+// extended din input, so a tool that honours sizes counts a node straddling two lines twice.
+// Closes a FILE owned by a unique_ptr (so a constructor that throws still closes it).
+struct FileCloser {
+  void operator()(std::FILE* f) const { std::fclose(f); }
+};
+using FilePtr = std::unique_ptr<std::FILE, FileCloser>;
+
+enum class TraceFormat { kDin, kDinSized, kBin };
 
 inline constexpr char kBinMagic[8] = {'R', 'T', 'U', 'T', 'R', 'A', 'C', 'E'};
 inline constexpr uint32_t kBinVersion = 1;
@@ -100,7 +109,8 @@ class TraceWriter {
   const TraceDigest& digest() const { return digest_; }
 
  private:
-  static constexpr size_t kMaxRecordBytes = 24;  // "0 " + 16 hex digits + "\n"; varint <= 10
+  // "0 " + 16 hex digits + " " + 8 hex digits + "\n"; a varint takes <= 10.
+  static constexpr size_t kMaxRecordBytes = 28;
   void append_din(uint64_t addr);
   void flush_buffer();
   void write_header();
@@ -110,7 +120,7 @@ class TraceWriter {
   std::string layout_;
   uint32_t node_bytes_;
   uint64_t scene_hash_;
-  std::FILE* file_ = nullptr;
+  FilePtr file_;
   std::vector<uint8_t> buf_;
   size_t used_ = 0;
   uint64_t prev_ = 0;
@@ -118,7 +128,7 @@ class TraceWriter {
   TraceDigest digest_;
 };
 
-// What a trace file says about itself (din: only format and count).
+// What a trace file says about itself (din: only format and, once read, count).
 struct TraceHeader {
   TraceFormat format = TraceFormat::kDin;
   uint32_t version = 0;
@@ -130,25 +140,56 @@ struct TraceHeader {
   std::string layout;  // "" for din
 };
 
-// Reads a bin or din trace (told apart by the magic). The constructor reads the file and checks
-// the header; decode() checks the payload. Every error is an InputError "FILE: what is wrong"
-// (truncated, bad magic, unsupported version, checksum mismatch, bad din line N ...).
+// Largest bytes one fetch may read (bin node_bytes, din size field): a header claiming more is
+// rejected rather than replayed as millions of line accesses per record.
+inline constexpr uint32_t kMaxFetchBytes = 4096;
+
+// Reads a bin or din trace (told apart by the magic) in bounded memory: the constructor opens
+// the file and checks the header against the file's size; next() decodes the records a chunk at
+// a time through a fixed buffer, and checks count, payload size and checksum (bin) when the end
+// is reached. Every error is an InputError "FILE: what is wrong" (truncated, bad magic,
+// unsupported version, checksum mismatch, bad din line N ...).
+//
+// din lines are "<label 0-2> <hex address>" (Dinero IV's traditional format) or
+// "<label> <hex address> <hex size>" (its extended format, the bytes the access reads).
 class TraceReader {
  public:
   explicit TraceReader(const std::filesystem::path& path);
+  TraceReader(const TraceReader&) = delete;
+  TraceReader& operator=(const TraceReader&) = delete;
+
   const TraceHeader& header() const { return header_; }
-  // The addresses, in order; verifies count, payload size and checksum (bin).
+  // Decodes up to `max_records` records into `addrs` (replaced). `sizes` is left empty unless
+  // a din line in the chunk has a size field; then it holds one size per record (0 = none).
+  // Returns false, with both empty, once every record was read and the trailer checks passed.
+  bool next(std::vector<uint64_t>& addrs, std::vector<uint32_t>& sizes, size_t max_records);
+  // Every address, in order (reads the file again from the start; for tests and benchmarks).
   std::vector<uint64_t> decode() const;
 
  private:
   [[noreturn]] void fail(const std::string& what) const;
-  void parse_bin_header();
-  std::vector<uint64_t> decode_bin() const;
-  std::vector<uint64_t> decode_din() const;
+  void parse_bin_header(uint64_t file_bytes);
+  // Keeps the unread bytes and appends more from the file (bin: never past the payload).
+  // Returns false when nothing was left to read.
+  bool refill();
+  template <bool kChecked>
+  uint64_t read_varint(const uint8_t*& p, const uint8_t* end, uint64_t record) const;
+  bool next_bin(std::vector<uint64_t>& addrs, size_t max_records);
+  bool next_din(std::vector<uint64_t>& addrs, std::vector<uint32_t>& sizes, size_t max_records);
+  void din_line(const char* q, const char* eol, std::vector<uint64_t>& addrs,
+                std::vector<uint32_t>& sizes);
 
+  std::filesystem::path path_;
   std::string name_;
-  std::vector<uint8_t> data_;
-  size_t payload_offset_ = 0;
+  FilePtr file_;
+  std::vector<uint8_t> buf_;
+  size_t pos_ = 0, end_ = 0;     // unread bytes: buf_[pos_, end_)
+  uint64_t file_left_ = 0;       // bytes still to read from the file (bin: of the payload)
+  uint64_t records_ = 0;         // records decoded so far
+  uint64_t prev_ = 0;            // bin: the previous address
+  uint64_t hash_ = kFnvOffset;   // bin: running checksum
+  uint64_t line_ = 0;            // din: lines read
+  bool done_ = false;
   TraceHeader header_;
 };
 

@@ -1,11 +1,19 @@
-// All-or-nothing output: files are written under a hidden staging directory and moved into
-// place only by commit(), so a run that fails leaves no partial output behind.
+// All-or-nothing output. A run's files are written into a hidden staging directory beside the
+// output directory and moved into place by commit() with one rename (or one atomic exchange
+// when the output directory exists already), so a run that fails, or is stopped by SIGINT or
+// SIGTERM (install_output_cleanup()), leaves either every output or none, and no staging
+// directory. Write failures (full disk, unwritable directory) are InputErrors (exit 2).
 #pragma once
 #include <filesystem>
 #include <string>
 #include <vector>
 
 namespace rtusim {
+
+// Installs SIGINT/SIGTERM/SIGHUP handlers that remove every registered staging directory and
+// temporary file, then die of the signal. Commits run with these signals blocked, so a signal
+// lands either before (nothing left) or after (everything in place).
+void install_output_cleanup();
 
 class OutputFiles {
  public:
@@ -14,20 +22,24 @@ class OutputFiles {
   OutputFiles(const OutputFiles&) = delete;
   OutputFiles& operator=(const OutputFiles&) = delete;
 
-  // Path to write `name` to (inside the staging directory).
+  // Path to write `name` (a plain file name) to, inside the staging directory.
   std::filesystem::path stage(const std::string& name);
   void write_text(const std::string& name, const std::string& text);
-  // Moves every staged file into the output directory.
+  // Puts every staged file into the output directory at once. Files of an existing output
+  // directory that this run does not write stay; a directory in the way of an output file is
+  // an InputError before anything moves.
   void commit();
   const std::filesystem::path& dir() const { return dir_; }
+  const std::filesystem::path& staging() const { return staging_; }
 
  private:
   std::filesystem::path dir_, staging_;
   std::vector<std::string> names_;
+  int slot_ = -1;  // cleanup registration
   bool committed_ = false;
 };
 
-// For a single output file: writes to FILE.tmp, renamed over FILE by commit().
+// For a single output file: writes to FILE.tmp-PID, renamed over FILE by commit().
 class OutputFile {
  public:
   explicit OutputFile(std::filesystem::path path);
@@ -39,6 +51,7 @@ class OutputFile {
 
  private:
   std::filesystem::path path_, temp_;
+  int slot_ = -1;
   bool committed_ = false;
 };
 

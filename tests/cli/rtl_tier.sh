@@ -33,5 +33,8 @@ set +e
 msg=$("$rtusim" run "$src/configs/default.toml" --set sim.tier=rtl --set l1.size=2048 --out "$tmp/bad" 2>&1 >/dev/null)
 rc=$?
 set -e
-[ $rc -eq 2 ] && grep -q "no RTL build for l1.size=2048" <<<"$msg" && [ ! -e "$tmp/bad" ]
+# Each check on its own line: under set -e a failing `a && b` list does not stop the script.
+if [ $rc -ne 2 ]; then echo "FAIL: unbuilt RTL config exit $rc, want 2"; exit 1; fi
+if ! grep -q "no RTL build for l1.size=2048" <<<"$msg"; then echo "FAIL: message: $msg"; exit 1; fi
+if [ -e "$tmp/bad" ]; then echo "FAIL: output left in $tmp/bad"; exit 1; fi
 echo "rtl_tier: 1 passed, 0 failed"

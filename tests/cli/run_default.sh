@@ -58,4 +58,51 @@ assert m["layout.odfl.tree.bytes"] == m["layout.dfl.tree.bytes"]
 assert m["layout.subtree.tree.bytes"] > m["layout.dfl.tree.bytes"]
 assert m["layout.odfl.traversal.node_fetches"] == m["layout.dfl.traversal.node_fetches"], "same visits"
 PY
+# The maps' content, not just their presence: decoded, each is W x H, each heatmap has more
+# than one colour, the difference map only white, red-ish (R = 255, G = B) or blue-ish
+# (B = 255, R = G) pixels, and white exactly where the two heatmaps agree.
+python3 - "$tmp/m" 48 40 <<'PY'
+import struct, sys, zlib
+d, W, H = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
+def png(path):
+    data = open(path, "rb").read()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n", path
+    pos, idat, w = 8, b"", 0
+    while pos < len(data):
+        n, kind = struct.unpack_from(">I4s", data, pos)
+        body = data[pos + 8:pos + 8 + n]
+        if kind == b"IHDR":
+            w, h, depth, colour = struct.unpack_from(">IIBB", body)
+            assert (depth, colour) == (8, 2), (depth, colour)
+        elif kind == b"IDAT":
+            idat += body
+        pos += 12 + n
+    raw, rows, prev, stride = zlib.decompress(idat), [], bytearray(3 * w), 3 * w
+    for y in range(h):
+        f, line = raw[y * (stride + 1)], bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
+        for i in range(stride):
+            a = line[i - 3] if i >= 3 else 0
+            b, c = prev[i], prev[i - 3] if i >= 3 else 0
+            pa, pb, pc = abs(b - c), abs(a - c), abs(a + b - 2 * c)  # Paeth: |p-a|, |p-b|, |p-c|
+            pr = a if pa <= pb and pa <= pc else (b if pb <= pc else c)
+            line[i] = (line[i] + [0, a, b, (a + b) // 2, pr][f]) & 255
+        rows.append([tuple(line[3 * x:3 * x + 3]) for x in range(w)])
+        prev = line
+    return w, h, rows
+maps = {k: png(f"{d}/{k}.png") for k in ["heatmap_dfl", "heatmap_odfl", "diff_odfl_dfl", "image"]}
+for k, (w, h, _) in maps.items():
+    assert (w, h) == (W, H), (k, w, h)
+for k in ["heatmap_dfl", "heatmap_odfl"]:
+    assert len({p for row in maps[k][2] for p in row}) > 5, f"{k}: (nearly) one colour"
+white = 0
+for y in range(H):
+    for x in range(W):
+        r, g, b = maps["diff_odfl_dfl"][2][y][x]
+        assert (r == 255 and g == b) or (b == 255 and r == g), (x, y, r, g, b)
+        same = maps["heatmap_dfl"][2][y][x] == maps["heatmap_odfl"][2][y][x]
+        if (r, g, b) == (255, 255, 255):
+            white += 1
+            assert same, (x, y)
+assert white < W * H, "ODFL and DFL differ somewhere"
+PY
 echo "run_default: 1 passed, 0 failed"

@@ -2,6 +2,8 @@
 // >= 99.9% and t within 1e-4 relative where both hit.
 #include <gtest/gtest.h>
 
+#include "../skip_unless_ci.h"
+
 #include <cmath>
 #include <filesystem>
 
@@ -27,7 +29,7 @@ TEST_P(EmbreeHits, PrimaryHitsAgree) {
   const char* env = std::getenv("RTUSIM_SCENES");
   const std::string dir = env && *env ? env : RTUSIM_SCENES_DEFAULT;
   const std::string path = dir + "/" + c.scene + "/" + c.scene + ".gltf";
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << "no scene " << path;
+  if (!std::filesystem::exists(path)) RTUSIM_SKIP_UNLESS_CI("no scene " << path);
 
   const Scene scene = load_gltf(path);
   const KdTree tree = build_sah_kd_tree(scene, KdBuildParams{});

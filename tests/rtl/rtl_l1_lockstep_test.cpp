@@ -5,6 +5,8 @@
 // kitchen when $RTUSIM_SCENES/kitchen/kitchen.gltf exists).
 #include <gtest/gtest.h>
 
+#include "../skip_unless_ci.h"
+
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -57,11 +59,11 @@ std::vector<Outcome> expect_lockstep(const RtlL1Build& b, const std::vector<uint
   EXPECT_LT(misses, trace.size()) << what;
   std::printf("%s %s: %zu accesses, %llu misses, identical: %s\n", b.model.data(), what.c_str(),
               trace.size(), static_cast<unsigned long long>(misses),
-              testing::Test::HasFailure() ? "FAIL" : "PASS");
+              ::testing::Test::HasFailure() ? "FAIL" : "PASS");
   return out;
 }
 
-class RtlL1Lockstep : public testing::TestWithParam<RtlL1Build> {};
+class RtlL1Lockstep : public ::testing::TestWithParam<RtlL1Build> {};
 
 TEST_P(RtlL1Lockstep, RandomClusteredTraces) {
   for (uint32_t seed : {1u, 2u, 3u})
@@ -83,12 +85,12 @@ TEST_P(RtlL1Lockstep, CornellNodeTrace) {
 
 TEST_P(RtlL1Lockstep, KitchenNodeTrace) {
   const std::vector<uint64_t>* t = kitchen_node_trace();
-  if (!t) GTEST_SKIP() << "no kitchen scene under $RTUSIM_SCENES";
+  if (!t) RTUSIM_SKIP_UNLESS_CI("no kitchen scene under $RTUSIM_SCENES");
   expect_lockstep(GetParam(), *t, "kitchen node trace");
 }
 
-INSTANTIATE_TEST_SUITE_P(Builds, RtlL1Lockstep, testing::ValuesIn(rtl_l1_builds()),
-                         [](const testing::TestParamInfo<RtlL1Build>& i) {
+INSTANTIATE_TEST_SUITE_P(Builds, RtlL1Lockstep, ::testing::ValuesIn(rtl_l1_builds()),
+                         [](const ::testing::TestParamInfo<RtlL1Build>& i) {
                            return build_name(i.param);
                          });
 

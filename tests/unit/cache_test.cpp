@@ -11,6 +11,8 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+
+#include "../skip_unless_ci.h"
 #include <unistd.h>
 
 #include "cache/cache_params.h"
@@ -255,7 +257,7 @@ std::string run_capture(const std::string& command) {
 }
 
 TEST(CacheTest, MatchesPythonReferenceModel) {
-  if (std::system("python3 -c pass > /dev/null 2>&1") != 0) GTEST_SKIP() << "python3 not found";
+  if (std::system("python3 -c pass > /dev/null 2>&1") != 0) RTUSIM_SKIP_UNLESS_CI("python3 not found");
   const std::filesystem::path script = tests_dir() / "cache_ref.py";
   ASSERT_TRUE(std::filesystem::exists(script)) << script;
 

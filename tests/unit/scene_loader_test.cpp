@@ -13,6 +13,8 @@
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
+
+#include "../skip_unless_ci.h"
 #include <nlohmann/json.hpp>
 
 #include "scene/builtin_scene.h"
@@ -563,7 +565,7 @@ TEST_F(SceneLoaderTest, BadFilesGiveInputErrorNamingTheFile) {
 class RealScenesTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    if (!fs::is_directory(RTUSIM_SCENES_DEFAULT)) GTEST_SKIP() << "no scenes folder " << RTUSIM_SCENES_DEFAULT;
+    if (!fs::is_directory(RTUSIM_SCENES_DEFAULT)) RTUSIM_SKIP_UNLESS_CI("no scenes folder " << RTUSIM_SCENES_DEFAULT);
   }
   static std::string path(const std::string& name) {
     return std::string(RTUSIM_SCENES_DEFAULT) + "/" + name + "/" + name + ".gltf";

@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <algorithm>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -143,6 +144,80 @@ TEST_F(TraceFormatTest, ReaderRejectsDamagedFilesNamingThem) {
   put(dir_ / "bad.din", {'0', ' ', '1', '0', '\n', '0', ' ', 'g', '\n'});
   EXPECT_NE(error_of(dir_ / "bad.din").find("bad.din: line 2"), std::string::npos);
   EXPECT_NE(error_of(dir_ / "none.bin").find("none.bin: cannot open"), std::string::npos);
+}
+
+// Streaming: any chunk size returns the same addresses as one decode, and a trace larger than
+// the reader's 1 MiB buffer crosses buffer boundaries inside records (multi-byte varints).
+TEST_F(TraceFormatTest, StreamingInChunksMatchesWholeDecode) {
+  std::vector<uint64_t> addrs = sample_addresses();
+  std::mt19937_64 rng(11);
+  for (int i = 0; i < 300000; ++i) addrs.push_back(rng());  // ~10 bytes each: > 1 MiB payload
+  for (const TraceFormat f : {TraceFormat::kBin, TraceFormat::kDin, TraceFormat::kDinSized}) {
+    const fs::path p = write("s" + std::to_string(int(f)), f, addrs);
+    for (const size_t chunk : {size_t{1}, size_t{7}, size_t{65536}, size_t{1} << 22}) {
+      TraceReader r(p);
+      std::vector<uint64_t> got, part;
+      std::vector<uint32_t> sizes;
+      while (r.next(part, sizes, chunk)) {
+        ASSERT_LE(part.size(), chunk);
+        if (f == TraceFormat::kDinSized) {
+          ASSERT_EQ(sizes.size(), part.size());
+          for (const uint32_t s : sizes) ASSERT_EQ(s, 8u);  // the writer's node_bytes
+        } else {
+          ASSERT_TRUE(sizes.empty());
+        }
+        got.insert(got.end(), part.begin(), part.end());
+        if (chunk == 1 && got.size() > 2000) break;  // one-record chunks: the start is enough
+      }
+      if (chunk == 1) {
+        ASSERT_TRUE(std::equal(got.begin(), got.end(), addrs.begin()));
+        continue;
+      }
+      EXPECT_EQ(got, addrs) << int(f) << " chunk " << chunk;
+      EXPECT_EQ(r.header().count, addrs.size());
+    }
+  }
+}
+
+// A din line may carry Dinero IV's size field; lines with and without one mix.
+TEST_F(TraceFormatTest, DinSizeFieldIsReadPerLine) {
+  put(dir_ / "sized.din", {'0', ' ', '4', '0', ' ', 'c', '\n', '2', ' ', '8', '0', '\n'});
+  TraceReader r(dir_ / "sized.din");
+  std::vector<uint64_t> a;
+  std::vector<uint32_t> s;
+  ASSERT_TRUE(r.next(a, s, 100));
+  EXPECT_EQ(a, (std::vector<uint64_t>{0x40, 0x80}));
+  EXPECT_EQ(s, (std::vector<uint32_t>{12, 0}));
+  EXPECT_FALSE(r.next(a, s, 100));
+  // The writer's sized lines: "0 <address> <node bytes>", hex.
+  TraceWriter w(dir_ / "w.din", TraceFormat::kDinSized, "subtree", 12, 0);
+  w.append(0x1a40);
+  w.finish();
+  const auto b = bytes(dir_ / "w.din");
+  EXPECT_EQ(std::string(b.begin(), b.end()), "0 1a40 c\n");
+}
+
+// Header sanity that is not covered by the checksum, and unprintable bytes in messages.
+TEST_F(TraceFormatTest, NodeSizeAndUnprintableBytesGiveClearErrors) {
+  const fs::path p = write("n.bin", TraceFormat::kBin, {0, 8});
+  auto b = bytes(p);
+  b[12] = 0xff, b[13] = 0xff, b[14] = 0xff, b[15] = 0x7f;  // node_bytes = 2^31 - 1
+  put(dir_ / "huge.bin", b);
+  EXPECT_NE(error_of(dir_ / "huge.bin").find("node size 2147483647 bytes"), std::string::npos);
+  put(dir_ / "nul.din", {'0', ' ', '1', 0, '2', '\n'});
+  const std::string e = error_of(dir_ / "nul.din");
+  EXPECT_NE(e.find("line 1: '\\x00' is not a hex digit"), std::string::npos) << e;
+  EXPECT_EQ(e.find('\0'), std::string::npos);
+  EXPECT_NE(error_of(dir_).find("is a directory"), std::string::npos);
+}
+
+// A rejected trace closes its file (the constructor throws after opening it): ten thousand
+// rejections in one process must not run out of file descriptors.
+TEST_F(TraceFormatTest, RejectedTracesCloseTheirFiles) {
+  put(dir_ / "bad.bin", {'R', 'T', 'U', 'T', 'R', 'A', 'C', 'E', 9, 0, 0, 0});
+  for (int i = 0; i < 10000; ++i)
+    ASSERT_NE(error_of(dir_ / "bad.bin").find("bad.bin: truncated"), std::string::npos) << i;
+  EXPECT_EQ(error_of(dir_ / "none.bin").find("Too many open files"), std::string::npos);
 }
 
 TEST_F(TraceFormatTest, ChecksumSeesOrderAndEveryAddress) {

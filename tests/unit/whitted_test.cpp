@@ -2,6 +2,8 @@
 // and shadows, reflection and refraction behave on hand-made scenes.
 #include <gtest/gtest.h>
 
+#include "../skip_unless_ci.h"
+
 #include <cstring>
 #include <filesystem>
 
@@ -139,7 +141,7 @@ TEST(Whitted, ScaleAwareOffsetsAvoidSelfIntersection) {
 
 TEST(Whitted, CornellWhittedSceneTracesReflectionAndRefraction) {
   const std::string path = std::string(RTUSIM_SCENES_DEFAULT) + "/cornell_whitted/cornell_whitted.gltf";
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << "no shared scenes at " << path;
+  if (!std::filesystem::exists(path)) RTUSIM_SKIP_UNLESS_CI("no shared scenes at " << path);
   const Scene scene = load_gltf(path);
   CameraDesc cam;
   for (const auto& c : scene.cameras)

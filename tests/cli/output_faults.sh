@@ -1,0 +1,65 @@
+#!/usr/bin/env bash
+# Output faults: the commit is all-or-nothing (one rename / exchange of the whole directory), a
+# directory in the way fails before anything moves, SIGINT/SIGTERM at any moment leaves the
+# complete outputs or none (never a staging directory), and a full disk is a clear exit 2.
+set -uo pipefail
+rtusim=$(realpath "$1"); src=$2
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+pass=0; fail=0
+bad() { echo "FAIL $*"; fail=$((fail+1)); }
+ok() { pass=$((pass+1)); }
+D="$src/configs/default.toml"
+small=(--set image.width=24 --set image.height=16)
+staging() { find "$tmp" -name '.rtusim-staging-*' -o -name '*.tmp-*'; }
+
+# A directory named like an output: exit 2 naming it, the existing directory untouched.
+mkdir -p "$tmp/o1/image.png" && echo old > "$tmp/o1/notes.txt"
+"$rtusim" run "$D" "${small[@]}" --out "$tmp/o1" > /dev/null 2> "$tmp/err"; rc=$?
+if [ $rc -eq 2 ] && [ "$(wc -l < "$tmp/err")" -eq 1 ] && grep -q "o1/image.png: is a directory" "$tmp/err" &&
+   [ "$(ls -A "$tmp/o1" | tr '\n' ' ')" = "image.png notes.txt " ] && [ -z "$(staging)" ]; then ok
+else bad "commit_blocked: exit $rc, $(cat "$tmp/err"), left: $(ls -A "$tmp/o1") $(staging)"; fi
+
+# Into an existing directory: outputs replaced, the user's other files and folders kept.
+mkdir -p "$tmp/o2/sub" && echo mine > "$tmp/o2/notes.txt" && echo stale > "$tmp/o2/stats.json"
+"$rtusim" run "$D" "${small[@]}" --out "$tmp/o2" > /dev/null 2>&1; rc=$?
+if [ $rc -eq 0 ] && [ "$(cat "$tmp/o2/notes.txt")" = mine ] && [ -d "$tmp/o2/sub" ] &&
+   grep -q '"rays.total"' "$tmp/o2/stats.json" && [ -s "$tmp/o2/image.png" ] && [ -z "$(staging)" ]; then ok
+else bad "existing_dir: exit $rc, $(ls -A "$tmp/o2")"; fi
+
+# --out . (the working directory): the directory itself stays (same inode), outputs land in it.
+mkdir -p "$tmp/here" && echo mine > "$tmp/here/notes.txt"
+inode=$(stat -c %i "$tmp/here")
+(cd "$tmp/here" && "$rtusim" run "$D" "${small[@]}" --out . > /dev/null 2>&1); rc=$?
+if [ $rc -eq 0 ] && [ "$(stat -c %i "$tmp/here")" = "$inode" ] && [ -s "$tmp/here/stats.json" ] &&
+   [ "$(cat "$tmp/here/notes.txt")" = mine ] && [ -z "$(staging)" ]; then ok
+else bad "out_cwd: exit $rc, $(ls -A "$tmp/here")"; fi
+
+# Full disk (a 1 KiB file-size limit; writes fail with EFBIG): exit 2, one line, nothing left.
+(trap '' XFSZ; ulimit -f 1; exec "$rtusim" run "$D" "${small[@]}" --out "$tmp/o3") > /dev/null 2> "$tmp/err"; rc=$?
+if [ $rc -eq 2 ] && [ "$(wc -l < "$tmp/err")" -eq 1 ] && grep -q "cannot write" "$tmp/err" &&
+   [ ! -e "$tmp/o3" ] && [ -z "$(staging)" ]; then ok
+else bad "full_disk: exit $rc, $(cat "$tmp/err"), left: $(ls -A "$tmp") "; fi
+(trap '' XFSZ; ulimit -f 1; exec "$rtusim" trace "$D" "${small[@]}" --out "$tmp/t.din") > /dev/null 2> "$tmp/err"; rc=$?
+if [ $rc -eq 2 ] && grep -q "cannot write" "$tmp/err" && [ ! -e "$tmp/t.din" ] && [ -z "$(staging)" ]; then ok
+else bad "full_disk_trace: exit $rc, $(cat "$tmp/err")"; fi
+
+# Killed at spread-out moments: all or nothing, never a staging directory or temporary file.
+complete() { [ -s "$1/stats.json" ] && [ -s "$1/config.toml" ] && [ -s "$1/image.png" ]; }
+for sig in INT TERM; do
+  for delay in 0 0.02 0.05 0.1 0.2 0.4 0.8 1.5; do
+    o="$tmp/k_${sig}_$delay"
+    "$rtusim" run "$D" --set image.width=96 --set image.height=96 --out "$o" > /dev/null 2>&1 &
+    pid=$!
+    sleep "$delay"; kill -s "$sig" "$pid" 2>/dev/null; wait "$pid"
+    if { [ ! -e "$o" ] || complete "$o"; } && [ -z "$(staging)" ]; then ok
+    else bad "kill_${sig}_$delay: $(ls -A "$o" 2>/dev/null) $(staging)"; fi
+  done
+  # The same for a single-file output.
+  "$rtusim" trace "$D" --set image.width=96 --set image.height=96 --out "$tmp/k.din" > /dev/null 2>&1 &
+  pid=$!; sleep 0.2; kill -s "$sig" "$pid" 2>/dev/null; wait "$pid"
+  if [ -z "$(staging)" ]; then ok; else bad "kill_trace_$sig: $(staging)"; fi
+  rm -f "$tmp/k.din"
+done
+
+echo "output_faults: $pass passed, $fail failed"
+[ $fail -eq 0 ]
