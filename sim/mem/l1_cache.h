@@ -24,9 +24,11 @@
 // Event-driven, not clocked: a lookup at cycle c is decided as soon as no fill unknown so far
 // can come at or before c, i.e. c*P is at or before the later of the kernel time and the
 // downstream horizon. That holds when the downstream announces each completion before it
-// happens and never decides a queued read before its horizon (other initiators' reads cannot
-// pull it forward; the DRAM model's decisions are so), and our own later reads go out after the
-// lookups still to decide. A request looked up at its own time is decided on arrival and, if
+// happens, never decides a queued read before its horizon (other initiators' reads cannot
+// pull it forward; the DRAM model's decisions are so) and keeps its horizon before every
+// completion it has decided but not announced yet (the DRAM answers a batch of decisions one by
+// one, and we decide lookups in the callback of each answer), and our own later reads go out
+// after the lookups still to decide. A request looked up at its own time is decided on arrival and, if
 // it is a hit or merges on a known fill, completes at once (TLM_COMPLETED, annotated time);
 // otherwise it gets BEGIN_RESP. A backlog (several requests in one cycle, a blocked port) is
 // decided by a method at its cycle (driven by call: by the initiator's call there), and the

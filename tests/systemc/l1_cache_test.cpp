@@ -1,8 +1,9 @@
 // Node L1: hit, miss, merged miss, one lookup per cycle, MSHR-full blocking and a pending line's
 // eviction, with exact cycle counts, against a memory of fixed latency answering at once or
-// later (the AT path).
+// later (the AT path), and behind the FR-FCFS DRAM when it decides several reads at once.
 #include <gtest/gtest.h>
 
+#include "mem/dram/dram.h"
 #include "mem/l1_cache.h"
 #include "sc_fixture.h"
 #include "tlm_test_modules.h"
@@ -150,6 +151,50 @@ TEST_P(L1CacheTest, APendingLineEvictedIsReinstalledByItsMerge) {
 
 INSTANTIATE_TEST_SUITE_P(MemoryAnswers, L1CacheTest, ::testing::Values(false, true),
                          [](const ::testing::TestParamInfo<bool>& i) { return i.param ? "Later" : "AtOnce"; });
+
+class L1BehindDramTest : public testing::SystemCTest {};
+
+TEST_F(L1BehindDramTest, FillsDecidedTogetherAllPrecedeLaterLookups) {
+  // The FR-FCFS DRAM (one channel, 4 banks, 1 KB rows: bank = (addr / 1024) % 4, row =
+  // addr / 4096) decides two of the L1's reads at one time and answers them one by one. The
+  // first answer's fill lets the L1 decide the lookup queued behind it; the second fill comes
+  // before that lookup, so it must be known first (was: the DRAM's horizon had moved past the
+  // second completion while it was not answered yet, the lookup was decided on the first fill
+  // and the second fill threw logic_error).
+  DramParams dp;
+  dp.banks = 4;
+  dp.row_bytes = 1024;
+  constexpr uint64_t kBank0Row0 = 0x0000, kBank1Row0 = 0x0400;  // opened by another initiator
+  constexpr uint64_t A = 0x1000, B = 0x1400;                       // row 1 of banks 0 and 1
+  constexpr uint64_t kLateLookup = 100;  // a hit on A after both fills
+  // The L1 runs ahead of the kernel (as the unit does): the late lookup is queued from the
+  // start, behind the DRAM's horizon.
+  Requester unit("unit", {{0, A}, {1 * kCycle, B}, {kLateLookup * kCycle, A + 8}});
+  unit.run_ahead_ps = kLateLookup * kCycle;
+  Requester other("other", {{0, kBank0Row0, 64}, {0, kBank1Row0, 64}});
+  L1Cache l1("l1", l1_params(2));
+  Dram dram("dram", dp);
+  unit.socket.bind(l1.target_socket);
+  l1.initiator_socket.bind(dram.target_socket);
+  other.socket.bind(dram.target_socket);
+  l1.set_downstream_horizon(&dram);
+  EXPECT_NO_THROW(sc_core::sc_start());
+
+  // Rows 0 open at tRCD; banks 0 and 1 are both ready at tRCD + tBurst, where A and B (sent
+  // at cycles 2 and 3) are row conflicts decided together, A first (older); B's data follows
+  // A's on the bus.
+  const uint64_t rcd = dp.tRCD_ps(), rp = dp.tRP_ps(), cl = dp.tCL_ps(), burst = dp.burst_ps();
+  const uint64_t a_done_ps = (rcd + burst) + rp + rcd + cl + burst;
+  const uint64_t b_done_ps = a_done_ps + burst;
+  auto fill_ps = [](uint64_t done_ps) { return (done_ps + kCycle - 1) / kCycle * kCycle; };
+  ASSERT_LT(fill_ps(b_done_ps), kLateLookup * kCycle);  // the case this test is about
+  EXPECT_EQ(unit.done_ps[0], fill_ps(a_done_ps));
+  EXPECT_EQ(unit.done_ps[1], fill_ps(b_done_ps));
+  EXPECT_EQ(unit.done_ps[2], (kLateLookup + 2) * kCycle);  // a hit at its own time
+  EXPECT_EQ(l1.primary_misses(), 2u);
+  EXPECT_EQ(l1.hits(), 1u);
+  EXPECT_EQ(dram.horizon_ps(), MemoryHorizon::kNever);
+}
 
 TEST(L1ParamsTest, ValidationNamesTheKey) {
   L1Params p = l1_params(0);

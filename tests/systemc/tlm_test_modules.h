@@ -3,6 +3,7 @@
 #pragma once
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <vector>
 
 #include <systemc>
@@ -26,6 +27,9 @@ struct Requester : sc_core::sc_module {
   // A target that answers later (the DRAM): every request must be accepted (TLM_UPDATED,
   // END_REQ), never completed at once.
   bool expect_accepted = false;
+  // Sends each request this long before its time, with the rest as the annotated delay (runs
+  // ahead of the kernel, as the traversal unit does).
+  uint64_t run_ahead_ps = 0;
 
   SC_HAS_PROCESS(Requester);
   Requester(const sc_core::sc_module_name& n, std::vector<Req> r)
@@ -36,10 +40,11 @@ struct Requester : sc_core::sc_module {
   }
   void run() {
     for (size_t i = 0; i < reqs.size(); ++i) {
-      if (reqs[i].at_ps > now_ps()) wait(ps(reqs[i].at_ps - now_ps()));
+      const uint64_t send_ps = reqs[i].at_ps - std::min(reqs[i].at_ps, run_ahead_ps);
+      if (send_ps > now_ps()) wait(ps(send_ps - now_ps()));
       init_read(payloads[i], reqs[i].addr, reqs[i].bytes);
       tlm::tlm_phase ph = tlm::BEGIN_REQ;
-      sc_core::sc_time d = sc_core::SC_ZERO_TIME;
+      sc_core::sc_time d = ps(reqs[i].at_ps - now_ps());
       const tlm::tlm_sync_enum status = socket->nb_transport_fw(payloads[i], ph, d);
       if (expect_accepted) {
         EXPECT_EQ(status, tlm::TLM_UPDATED);

@@ -63,7 +63,16 @@ void Dram::decide_at(uint64_t at_ps) {
   const uint64_t now = now_ps();
   done_.clear();
   backend_->advance(at_ps, done_);
-  for (const DramCompletion& c : done_) {
+  // The earliest completion after each answer, so the horizon covers those not answered yet.
+  later_done_ps_.resize(done_.size());
+  for (size_t i = done_.size(), earliest = kNever; i-- > 0;) {
+    later_done_ps_[i] = earliest;
+    earliest = std::min<uint64_t>(earliest, done_[i].done_ps);
+  }
+  for (size_t i = 0; i < done_.size(); ++i) {
+    const DramCompletion& c = done_[i];
+    // Every completion comes after its decision time, so this is at or after at_ps.
+    unanswered_ps_ = later_done_ps_[i] == kNever ? kNever : later_done_ps_[i] - 1;
     const Pending p = pending_[c.id];
     free_ids_.push_back(c.id);
     p.trans->set_response_status(tlm::TLM_OK_RESPONSE);
@@ -71,6 +80,7 @@ void Dram::decide_at(uint64_t at_ps) {
     sc_core::sc_time delay = ps(c.done_ps - now);
     target_socket[p.socket_id]->nb_transport_bw(*p.trans, phase, delay);  // END_RESP implied
   }
+  unanswered_ps_ = kNever;
   schedule_wakeup();
 }
 

@@ -7,7 +7,12 @@
 // completion. The module is its own memory horizon: nothing happens here before the next
 // decision time. Driven by call (CallDriven, mem_protocol.h), the method is not woken: the
 // initiator makes the decisions at the horizon itself, ahead of the kernel.
+// The horizon promises that every completion an initiator does not know yet comes after it. The
+// decisions of one time are answered one by one, and an initiator may act in the callback of
+// one answer (an L1 decides the lookups its fill unblocks): while a batch is answered, the
+// earliest completion of the batch not answered yet bounds the horizon too.
 #pragma once
+#include <algorithm>
 #include <memory>
 #include <vector>
 
@@ -32,7 +37,9 @@ class Dram : public sc_core::sc_module, public MemoryHorizon, public CallDriven 
 
   SC_HAS_PROCESS(Dram);
 
-  uint64_t horizon_ps() const override { return backend_->next_decision_ps(); }
+  uint64_t horizon_ps() const override {
+    return std::min(backend_->next_decision_ps(), unanswered_ps_);
+  }
   // A module is never a const object: the horizon view hands out the module to drive.
   CallDriven* call_driven() const override { return const_cast<Dram*>(this); }
   void set_driven_by_call(bool on) override {
@@ -59,6 +66,8 @@ class Dram : public sc_core::sc_module, public MemoryHorizon, public CallDriven 
   std::vector<Pending> pending_;     // by request id
   std::vector<uint64_t> free_ids_;
   std::vector<DramCompletion> done_;  // scratch
+  std::vector<uint64_t> later_done_ps_;  // scratch: per answer, the earliest completion after it
+  uint64_t unanswered_ps_ = kNever;  // just before the earliest decided completion not answered
   sc_core::sc_event wake_;
   bool driven_by_call_ = false;  // the initiator calls act_at_horizon(): no wake-ups
   bool wake_pending_ = false;  // wake_ is notified for wake_ps_
