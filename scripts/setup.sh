@@ -6,7 +6,8 @@ cd "$(dirname "$0")/.."
 
 packages=(build-essential cmake ninja-build pkg-config python3 python3-venv
           libsystemc-dev verilator libglm-dev libtinygltf-dev libtomlplusplus-dev
-          nlohmann-json3-dev libcli11-dev libstb-dev libgtest-dev libbenchmark-dev libembree-dev)
+          nlohmann-json3-dev libcli11-dev libstb-dev libgtest-dev libbenchmark-dev libembree-dev
+          libtbb-dev)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -13,6 +13,8 @@ class FunctionalBackend final : public TraceBackend {
  public:
   FunctionalBackend(const MemoryImage& image, const FetchCacheParams& caches, uint32_t pixels);
   void trace(std::span<const RayRecord> rays, std::span<Hit> hits) override;
+  const MemoryImage* replay_image() const override { return &image_; }
+  void replay(const FetchLog& log) override;
 
   const FetchCache& caches() const { return caches_; }
   // DRAM bytes (all streams) caused by each pixel's whole ray tree.

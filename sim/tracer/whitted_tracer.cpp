@@ -146,16 +146,27 @@ glm::vec3 WhittedTracer::local_radiance(const Shading& sh, const Hit* shadow_hit
 }
 
 FrameResult WhittedTracer::render(const PinholeCamera& camera, int width, int height) {
-  lights_ = scene_.lights;
-  if (lights_.empty() && params_.headlight)
-    lights_.push_back(PointLight{"headlight", camera.eye(), glm::vec3(1.0f), 1.0f});
+  begin_frame(camera);
   FrameResult out;
   out.width = width;
   out.height = height;
   out.radiance.assign(size_t(width) * height, glm::vec3(0.0f));
-  if (params_.order == RayOrder::kRecursive) render_recursive(camera, out);
-  else render_wavefront(camera, out);
+  std::vector<uint32_t> pixels(out.radiance.size());
+  for (size_t i = 0; i < pixels.size(); ++i) pixels[i] = static_cast<uint32_t>(i);
+  render_pixels(camera, pixels, out);
   return out;
+}
+
+void WhittedTracer::begin_frame(const PinholeCamera& camera) {
+  lights_ = scene_.lights;
+  if (lights_.empty() && params_.headlight)
+    lights_.push_back(PointLight{"headlight", camera.eye(), glm::vec3(1.0f), 1.0f});
+}
+
+void WhittedTracer::render_pixels(const PinholeCamera& camera, std::span<const uint32_t> pixels,
+                                  FrameResult& out) {
+  if (params_.order == RayOrder::kRecursive) render_recursive(camera, pixels, out);
+  else render_wavefront(camera, pixels, out);
 }
 
 // Recursive order: one pixel at a time, its ray tree depth first (shadow rays of a hit before
@@ -177,21 +188,23 @@ void WhittedTracer::trace_recursive(const PathRay& pr, FrameResult& out, glm::ve
   for (const PathRay& child : sh.secondary) trace_recursive(child, out, acc);
 }
 
-void WhittedTracer::render_recursive(const PinholeCamera& camera, FrameResult& out) {
-  for (int y = 0; y < out.height; ++y)
-    for (int x = 0; x < out.width; ++x) {
-      PathRay pr;
-      pr.rec.ray = camera.generate(x, y);
-      pr.rec.pixel = static_cast<uint32_t>(y * out.width + x);
-      glm::vec3 acc(0.0f);
-      trace_recursive(pr, out, acc);
-      out.radiance[pr.rec.pixel] = acc;
-    }
+void WhittedTracer::render_recursive(const PinholeCamera& camera,
+                                     std::span<const uint32_t> pixels, FrameResult& out) {
+  for (const uint32_t pixel : pixels) {
+    PathRay pr;
+    pr.rec.ray = camera.generate(static_cast<int>(pixel % out.width),
+                                 static_cast<int>(pixel / out.width));
+    pr.rec.pixel = pixel;
+    glm::vec3 acc(0.0f);
+    trace_recursive(pr, out, acc);
+    out.radiance[pixel] = acc;
+  }
 }
 
 // Wavefront order: every ray of one generation as a batch, then that generation's shadow rays,
 // then the next generation. Contributions are summed per pixel in ray-tree pre-order.
-void WhittedTracer::render_wavefront(const PinholeCamera& camera, FrameResult& out) {
+void WhittedTracer::render_wavefront(const PinholeCamera& camera,
+                                     std::span<const uint32_t> pixels, FrameResult& out) {
   struct Contribution {
     uint32_t pixel;
     uint64_t key;
@@ -199,14 +212,14 @@ void WhittedTracer::render_wavefront(const PinholeCamera& camera, FrameResult& o
   };
   std::vector<Contribution> contributions;
   std::vector<PathRay> generation;
-  generation.reserve(size_t(out.width) * out.height);
-  for (int y = 0; y < out.height; ++y)
-    for (int x = 0; x < out.width; ++x) {
-      PathRay pr;
-      pr.rec.ray = camera.generate(x, y);
-      pr.rec.pixel = static_cast<uint32_t>(y * out.width + x);
-      generation.push_back(pr);
-    }
+  generation.reserve(pixels.size());
+  for (const uint32_t pixel : pixels) {
+    PathRay pr;
+    pr.rec.ray = camera.generate(static_cast<int>(pixel % out.width),
+                                 static_cast<int>(pixel / out.width));
+    pr.rec.pixel = pixel;
+    generation.push_back(pr);
+  }
 
   std::vector<RayRecord> batch;
   std::vector<Hit> hits;

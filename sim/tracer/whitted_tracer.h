@@ -4,6 +4,7 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -33,6 +34,12 @@ class WhittedTracer {
 
   // Renders a frame; the rays reach the backend in the configured order.
   FrameResult render(const PinholeCamera& camera, int width, int height);
+  // Sets up a frame (the lights: the headlight sits at the camera).
+  void begin_frame(const PinholeCamera& camera);
+  // Traces `pixels` (y * width + x) in that order into out (radiance sized width x height),
+  // adding to its ray counts; in wavefront order the list is one wavefront.
+  void render_pixels(const PinholeCamera& camera, std::span<const uint32_t> pixels,
+                     FrameResult& out);
 
  private:
   struct PathRay;
@@ -40,8 +47,10 @@ class WhittedTracer {
 
   Shading shade(const PathRay& pr, const Hit& hit) const;
   glm::vec3 local_radiance(const Shading& sh, const Hit* shadow_hits) const;
-  void render_recursive(const PinholeCamera& camera, FrameResult& out);
-  void render_wavefront(const PinholeCamera& camera, FrameResult& out);
+  void render_recursive(const PinholeCamera& camera, std::span<const uint32_t> pixels,
+                        FrameResult& out);
+  void render_wavefront(const PinholeCamera& camera, std::span<const uint32_t> pixels,
+                        FrameResult& out);
   void trace_recursive(const PathRay& pr, FrameResult& out, glm::vec3& acc);
 
   const Scene& scene_;
