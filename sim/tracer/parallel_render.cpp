@@ -29,19 +29,20 @@ constexpr int kChunksPerThread = 4;     // chunks alive per thread: bounds the l
 // A backend that traverses with the shared step and records the fetches in a log.
 class RecordingBackend final : public TraceBackend {
  public:
-  RecordingBackend(const MemoryImage& image, FetchLog& log) : image_(image), log_(log) {}
+  RecordingBackend(const MemoryImage& image, FetchLog* log) : image_(image), log_(log) {}
+  void set_log(FetchLog* log) { log_ = log; }
   void trace(std::span<const RayRecord> rays, std::span<Hit> hits) override {
     with_layout_decoder(image_, [&]<class Decoder>() {
       for (size_t i = 0; i < rays.size(); ++i) {
-        hits[i] = traverse<Decoder>(image_, rays[i].ray, rays[i].any_hit(), log_);
-        log_.end_ray(rays[i]);
+        hits[i] = traverse<Decoder>(image_, rays[i].ray, rays[i].any_hit(), *log_);
+        log_->end_ray(rays[i]);
       }
     });
   }
 
  private:
   const MemoryImage& image_;
-  FetchLog& log_;
+  FetchLog* log_;
 };
 
 // Runs chunks [0, count) through trace(chunk, slot) on the worker threads and then
@@ -77,14 +78,20 @@ void render_recursive_parallel(const Scene& scene, const TracerParams& params,
     std::vector<glm::vec3> radiance;  // of the chunk's pixels
     std::array<uint64_t, kRayKinds> rays_by_kind{};
   };
-  // Each worker's frame: render_pixels() writes a pixel's radiance at its place in the frame.
-  tbb::enumerable_thread_specific<FrameResult> frames([&] {
-    FrameResult f;
-    f.width = out.width;
-    f.height = out.height;
-    f.radiance.assign(out.radiance.size(), glm::vec3(0.0f));
-    return f;
-  });
+  // Each thread's tracer (made once: its constructor scans the scene) recording into the
+  // current chunk's log, and its frame, where render_pixels() puts a pixel's radiance.
+  struct Worker {
+    RecordingBackend recorder;
+    WhittedTracer tracer;
+    FrameResult frame;
+    Worker(const Scene& scene, const TracerParams& params, const MemoryImage& image,
+           const PinholeCamera& camera, const FrameResult& out)
+        : recorder(image, nullptr), tracer(scene, params, recorder),
+          frame(empty_frame(out.width, out.height)) {
+      tracer.begin_frame(camera);
+    }
+  };
+  tbb::enumerable_thread_specific<std::unique_ptr<Worker>> workers;
   const size_t chunks = (pixels.size() + kPixelsPerChunk - 1) / kPixelsPerChunk;
   auto chunk_pixels = [&](size_t c) {
     const size_t begin = c * kPixelsPerChunk;
@@ -95,12 +102,12 @@ void render_recursive_parallel(const Scene& scene, const TracerParams& params,
       [&](size_t c, Slot& s) {
         const std::span<const uint32_t> mine = chunk_pixels(c);
         s.log.clear();
-        RecordingBackend recorder(image, s.log);
-        WhittedTracer tracer(scene, params, recorder);
-        tracer.begin_frame(camera);
-        FrameResult& frame = frames.local();
+        std::unique_ptr<Worker>& w = workers.local();
+        if (!w) w = std::make_unique<Worker>(scene, params, image, camera, out);
+        w->recorder.set_log(&s.log);
+        FrameResult& frame = w->frame;
         frame.rays_by_kind = {};
-        tracer.render_pixels(camera, mine, frame);
+        w->tracer.render_pixels(camera, mine, frame);
         s.rays_by_kind = frame.rays_by_kind;
         s.radiance.resize(mine.size());
         for (size_t i = 0; i < mine.size(); ++i) s.radiance[i] = frame.radiance[mine[i]];
@@ -133,7 +140,7 @@ void ParallelBackend::trace(std::span<const RayRecord> rays, std::span<Hit> hits
         const size_t begin = c * kRaysPerChunk;
         const size_t n = std::min(kRaysPerChunk, rays.size() - begin);
         log.clear();
-        RecordingBackend recorder(image, log);
+        RecordingBackend recorder(image, &log);
         recorder.trace(rays.subspan(begin, n), hits.subspan(begin, n));
       },
       [&](size_t, FetchLog& log) { inner_.replay(log); });
@@ -160,13 +167,8 @@ void parallel_render_pixels(const Scene& scene, const TracerParams& params,
 
 FrameResult parallel_render(const Scene& scene, const TracerParams& params, TraceBackend& backend,
                             const PinholeCamera& camera, int width, int height) {
-  FrameResult out;
-  out.width = width;
-  out.height = height;
-  out.radiance.assign(size_t(width) * height, glm::vec3(0.0f));
-  std::vector<uint32_t> pixels(out.radiance.size());
-  for (size_t i = 0; i < pixels.size(); ++i) pixels[i] = static_cast<uint32_t>(i);
-  parallel_render_pixels(scene, params, backend, camera, pixels, out);
+  FrameResult out = empty_frame(width, height);
+  parallel_render_pixels(scene, params, backend, camera, scan_order(out), out);
   return out;
 }
 

@@ -145,15 +145,24 @@ glm::vec3 WhittedTracer::local_radiance(const Shading& sh, const Hit* shadow_hit
   return c;
 }
 
-FrameResult WhittedTracer::render(const PinholeCamera& camera, int width, int height) {
-  begin_frame(camera);
+FrameResult empty_frame(int width, int height) {
   FrameResult out;
   out.width = width;
   out.height = height;
   out.radiance.assign(size_t(width) * height, glm::vec3(0.0f));
-  std::vector<uint32_t> pixels(out.radiance.size());
+  return out;
+}
+
+std::vector<uint32_t> scan_order(const FrameResult& frame) {
+  std::vector<uint32_t> pixels(frame.radiance.size());
   for (size_t i = 0; i < pixels.size(); ++i) pixels[i] = static_cast<uint32_t>(i);
-  render_pixels(camera, pixels, out);
+  return pixels;
+}
+
+FrameResult WhittedTracer::render(const PinholeCamera& camera, int width, int height) {
+  begin_frame(camera);
+  FrameResult out = empty_frame(width, height);
+  render_pixels(camera, scan_order(out), out);
   return out;
 }
 

@@ -28,6 +28,10 @@ struct FrameResult {
   }
 };
 
+// A black frame of width x height with no rays, and its pixels in scan order.
+FrameResult empty_frame(int width, int height);
+std::vector<uint32_t> scan_order(const FrameResult& frame);
+
 class WhittedTracer {
  public:
   WhittedTracer(const Scene& scene, const TracerParams& params, TraceBackend& backend);
