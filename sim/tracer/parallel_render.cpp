@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <memory>
+#include <numeric>
 #include <stdexcept>
 #include <vector>
 
@@ -87,9 +88,7 @@ void render_recursive_parallel(const Scene& scene, const TracerParams& params,
     Worker(const Scene& scene, const TracerParams& params, const MemoryImage& image,
            const PinholeCamera& camera, const FrameResult& out)
         : recorder(image, nullptr), tracer(scene, params, recorder),
-          frame(empty_frame(out.width, out.height)) {
-      tracer.begin_frame(camera);
-    }
+          frame(tracer.begin_frame(camera, out.width, out.height)) {}
   };
   tbb::enumerable_thread_specific<std::unique_ptr<Worker>> workers;
   const size_t chunks = (pixels.size() + kPixelsPerChunk - 1) / kPixelsPerChunk;
@@ -156,19 +155,21 @@ void parallel_render_pixels(const Scene& scene, const TracerParams& params,
     }
     ParallelBackend parallel(backend);
     WhittedTracer tracer(scene, params, parallel);
-    tracer.begin_frame(camera);
+    tracer.begin_frame(camera, out.width, out.height);
     tracer.render_pixels(camera, pixels, out);
     return;
   }
   WhittedTracer tracer(scene, params, backend);  // today's single-thread path
-  tracer.begin_frame(camera);
+  tracer.begin_frame(camera, out.width, out.height);
   tracer.render_pixels(camera, pixels, out);
 }
 
 FrameResult parallel_render(const Scene& scene, const TracerParams& params, TraceBackend& backend,
                             const PinholeCamera& camera, int width, int height) {
-  FrameResult out = empty_frame(width, height);
-  parallel_render_pixels(scene, params, backend, camera, scan_order(out), out);
+  FrameResult out = WhittedTracer(scene, params, backend).begin_frame(camera, width, height);
+  std::vector<uint32_t> pixels(out.radiance.size());
+  std::iota(pixels.begin(), pixels.end(), 0u);  // scan order
+  parallel_render_pixels(scene, params, backend, camera, pixels, out);
   return out;
 }
 

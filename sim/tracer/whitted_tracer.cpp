@@ -145,31 +145,23 @@ glm::vec3 WhittedTracer::local_radiance(const Shading& sh, const Hit* shadow_hit
   return c;
 }
 
-FrameResult empty_frame(int width, int height) {
+FrameResult WhittedTracer::render(const PinholeCamera& camera, int width, int height) {
+  FrameResult out = begin_frame(camera, width, height);
+  std::vector<uint32_t> pixels(size_t(width) * height);
+  for (size_t i = 0; i < pixels.size(); ++i) pixels[i] = static_cast<uint32_t>(i);
+  render_pixels(camera, pixels, out);
+  return out;
+}
+
+FrameResult WhittedTracer::begin_frame(const PinholeCamera& camera, int width, int height) {
+  lights_ = scene_.lights;
+  if (lights_.empty() && params_.headlight)
+    lights_.push_back(PointLight{"headlight", camera.eye(), glm::vec3(1.0f), 1.0f});
   FrameResult out;
   out.width = width;
   out.height = height;
   out.radiance.assign(size_t(width) * height, glm::vec3(0.0f));
   return out;
-}
-
-std::vector<uint32_t> scan_order(const FrameResult& frame) {
-  std::vector<uint32_t> pixels(frame.radiance.size());
-  for (size_t i = 0; i < pixels.size(); ++i) pixels[i] = static_cast<uint32_t>(i);
-  return pixels;
-}
-
-FrameResult WhittedTracer::render(const PinholeCamera& camera, int width, int height) {
-  begin_frame(camera);
-  FrameResult out = empty_frame(width, height);
-  render_pixels(camera, scan_order(out), out);
-  return out;
-}
-
-void WhittedTracer::begin_frame(const PinholeCamera& camera) {
-  lights_ = scene_.lights;
-  if (lights_.empty() && params_.headlight)
-    lights_.push_back(PointLight{"headlight", camera.eye(), glm::vec3(1.0f), 1.0f});
 }
 
 void WhittedTracer::render_pixels(const PinholeCamera& camera, std::span<const uint32_t> pixels,
@@ -206,7 +198,7 @@ void WhittedTracer::render_recursive(const PinholeCamera& camera,
     pr.rec.pixel = pixel;
     glm::vec3 acc(0.0f);
     trace_recursive(pr, out, acc);
-    out.radiance[pixel] = acc;
+    out.radiance[pr.rec.pixel] = acc;
   }
 }
 

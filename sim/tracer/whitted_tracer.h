@@ -28,20 +28,18 @@ struct FrameResult {
   }
 };
 
-// A black frame of width x height with no rays, and its pixels in scan order.
-FrameResult empty_frame(int width, int height);
-std::vector<uint32_t> scan_order(const FrameResult& frame);
-
 class WhittedTracer {
  public:
   WhittedTracer(const Scene& scene, const TracerParams& params, TraceBackend& backend);
 
   // Renders a frame; the rays reach the backend in the configured order.
   FrameResult render(const PinholeCamera& camera, int width, int height);
-  // Sets up a frame (the lights: the headlight sits at the camera).
-  void begin_frame(const PinholeCamera& camera);
-  // Traces `pixels` (y * width + x) in that order into out (radiance sized width x height),
-  // adding to its ray counts; in wavefront order the list is one wavefront.
+
+  // A frame of black pixels and no rays, for render_pixels.
+  FrameResult begin_frame(const PinholeCamera& camera, int width, int height);
+  // Traces the ray trees of `pixels` (row-major indices), in this order, into `out`: recursive
+  // order one pixel after another, wavefront order as one wavefront over them. render() is
+  // begin_frame() and render_pixels() over every pixel in scan order.
   void render_pixels(const PinholeCamera& camera, std::span<const uint32_t> pixels,
                      FrameResult& out);
 
