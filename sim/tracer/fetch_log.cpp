@@ -4,7 +4,7 @@
 namespace rtusim {
 
 void FetchLog::clear() {
-  bytes_.clear();  // keeps the capacity: a chunk's log is reused by a later chunk
+  used_ = 0;  // keeps the buffer: a chunk's log is reused by a later chunk
   rays_.clear();
   last_addr_ = {};
   last_bytes_ = {};

@@ -17,18 +17,21 @@ class FetchLog {
  public:
   // The traversal sink call: records one fetch of the current ray.
   void fetch(Stream s, uint64_t addr, uint32_t bytes) {
+    if (bytes_.size() - used_ < kMaxFetchBytes) bytes_.resize(2 * bytes_.size() + kMaxFetchBytes);
+    uint8_t* p = bytes_.data() + used_;
     const int i = static_cast<int>(s);
     const bool same_size = bytes == last_bytes_[i];
-    bytes_.push_back(static_cast<uint8_t>(i | (same_size ? kSameSize : 0)));
+    *p++ = static_cast<uint8_t>(i | (same_size ? kSameSize : 0));
     const uint64_t delta = addr - last_addr_[i];
-    put_varint((delta << 1) ^ (0 - (delta >> 63)));  // zigzag: small steps back stay short
-    if (!same_size) put_varint(bytes);
+    p = put_varint(p, (delta << 1) ^ (0 - (delta >> 63)));  // zigzag: small steps back stay short
+    if (!same_size) p = put_varint(p, bytes);
+    used_ = static_cast<size_t>(p - bytes_.data());
     last_addr_[i] = addr;
     last_bytes_[i] = bytes;
   }
   // Closes the current ray: the fetches since the last end_ray() are `ray`'s.
   void end_ray(const RayRecord& ray) {
-    rays_.push_back({ray.pixel, ray.kind, static_cast<uint32_t>(bytes_.size())});
+    rays_.push_back({ray.pixel, ray.kind, static_cast<uint32_t>(used_)});
   }
   void clear();
 
@@ -38,7 +41,7 @@ class FetchLog {
     for (const RayEnd& r : rays_) n += r.kind == kind;
     return n;
   }
-  size_t size_bytes() const { return bytes_.size() + rays_.size() * sizeof(RayEnd); }
+  size_t size_bytes() const { return used_ + rays_.size() * sizeof(RayEnd); }
 
   // Calls sink.fetch(stream, addr, bytes) for every fetch in issue order, and
   // sink.end_ray(pixel, kind) after each ray's fetches.
@@ -62,18 +65,20 @@ class FetchLog {
 
  private:
   static constexpr uint8_t kSameSize = 4;
+  static constexpr size_t kMaxFetchBytes = 1 + 10 + 5;  // tag, address step, size
   struct RayEnd {
     uint32_t pixel;
     RayKind kind;
     uint32_t end;  // offset in bytes_ past the ray's last fetch
   };
 
-  void put_varint(uint64_t v) {
+  static uint8_t* put_varint(uint8_t* p, uint64_t v) {
     while (v >= 0x80) {
-      bytes_.push_back(static_cast<uint8_t>(v | 0x80));
+      *p++ = static_cast<uint8_t>(v | 0x80);
       v >>= 7;
     }
-    bytes_.push_back(static_cast<uint8_t>(v));
+    *p++ = static_cast<uint8_t>(v);
+    return p;
   }
   uint64_t get_varint(size_t& pos) const {
     uint64_t v = 0;
@@ -84,7 +89,8 @@ class FetchLog {
     }
   }
 
-  std::vector<uint8_t> bytes_;
+  std::vector<uint8_t> bytes_;  // the encoding in [0, used_); the rest is room to write
+  size_t used_ = 0;
   std::vector<RayEnd> rays_;
   std::array<uint64_t, 3> last_addr_{};
   std::array<uint32_t, 3> last_bytes_{};
