@@ -7,7 +7,7 @@ cd "$(dirname "$0")/.."
 packages=(build-essential cmake ninja-build pkg-config python3 python3-venv
           libsystemc-dev verilator libglm-dev libtinygltf-dev libtomlplusplus-dev
           nlohmann-json3-dev libcli11-dev libstb-dev libgtest-dev libbenchmark-dev libembree-dev
-          clang-14 libfuzzer-14-dev)
+          clang-14 libfuzzer-14-dev libtbb-dev)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -9,6 +9,7 @@
 #include "app/pipeline.h"
 #include "scene/pinhole_camera.h"
 #include "tracer/host_backend.h"
+#include "tracer/parallel_render.h"
 #include "util/error.h"
 #include "util/output_files.h"
 
@@ -29,7 +30,8 @@ int hits_command(const RunOptions& opts) {
     }
   std::vector<Hit> hits(rays.size());
   HostBackend backend(p.images.front());
-  backend.trace(rays, hits);
+  if (parallel_threads() > 1) ParallelBackend(backend).trace(rays, hits);
+  else backend.trace(rays, hits);
 
   // RTH1, u32 W, u32 H, u32 0, f32 t per pixel (+inf = miss), i32 triangle id (-1 = miss).
   std::ofstream out(file.temp_path(), std::ios::binary);

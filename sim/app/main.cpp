@@ -1,8 +1,10 @@
 // rtusim command-line entry point: subcommands, and the exit-status contract
 // (0 success, 2 bad input with one line on stderr, 1 internal error).
 #include <iostream>
+#include <optional>
 
 #include <CLI/CLI.hpp>
+#include <oneapi/tbb/global_control.h>
 
 #include "app/commands.h"
 #include "util/error.h"
@@ -13,18 +15,26 @@ int main(int argc, char** argv) {
   CLI::App app{"rtusim: cycle-approximate simulator of a kd-tree ray-tracing unit"};
   app.require_subcommand(1);
   RunOptions run_opts, hits_opts;
+  // --threads N of run, hits and trace: never changes a result (tracer/parallel_render.h).
+  int threads = 0;
+  auto add_threads = [&](CLI::App* sub) {
+    sub->add_option("--threads", threads, "Tracing threads (default: all cores; 1: one thread)")
+        ->check(CLI::PositiveNumber);
+  };
 
   auto* run = app.add_subcommand("run", "Run one simulation: stats.json, config.toml, image.png");
   run->add_option("config", run_opts.config, "TOML run config")->required();
   run->add_option("--set", run_opts.overrides, "Override a config key: KEY=VALUE")
       ->allow_extra_args(false);
   run->add_option("--out", run_opts.out, "Output directory (default: out)");
+  add_threads(run);
 
   auto* hits = app.add_subcommand("hits", "Write primary-ray hits (RTH1 format)");
   hits->add_option("config", hits_opts.config, "TOML run config")->required();
   hits->add_option("--set", hits_opts.overrides, "Override a config key: KEY=VALUE")
       ->allow_extra_args(false);
   hits->add_option("--out", hits_opts.out, "Output file")->required();
+  add_threads(hits);
 
   TraceOptions trace_opts;
   auto* trace = app.add_subcommand("trace", "Write the node-fetch address stream (din or bin)");
@@ -35,6 +45,7 @@ int main(int argc, char** argv) {
   trace->add_option("--format", trace_opts.format,
                     "din (Dinero IV, default), din-sized (din + access size) or bin")
       ->check(CLI::IsMember({"din", "din-sized", "bin"}));
+  add_threads(trace);
 
   ReplayOptions replay_opts;
   auto* replay = app.add_subcommand("replay", "Replay a node trace through one cache (l1.*)");
@@ -80,6 +91,9 @@ int main(int argc, char** argv) {
     return 2;
   }
 
+  std::optional<tbb::global_control> thread_limit;
+  if (threads > 0)
+    thread_limit.emplace(tbb::global_control::max_allowed_parallelism, size_t(threads));
   try {
     if (*run) return run_command(run_opts);
     if (*hits) return hits_command(hits_opts);

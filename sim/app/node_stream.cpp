@@ -3,7 +3,7 @@
 
 #include "scene/pinhole_camera.h"
 #include "trace/node_stream_backend.h"
-#include "tracer/whitted_tracer.h"
+#include "tracer/parallel_render.h"
 
 namespace rtusim {
 namespace {
@@ -23,8 +23,7 @@ void render_frame(const Prepared& p, const MemoryImage& image, NodeStreamRecorde
   const int w = p.config.image.width, h = p.config.image.height;
   const PinholeCamera camera(p.camera, w, h);
   NodeStreamBackend backend(image, recorder);
-  WhittedTracer tracer(p.scene, p.config.tracer, backend);
-  tracer.render(camera, w, h);
+  parallel_render(p.scene, p.config.tracer, backend, camera, w, h);
 }
 
 }  // namespace

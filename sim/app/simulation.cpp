@@ -7,9 +7,12 @@
 #include <optional>
 #include <stdexcept>
 
+#include <oneapi/tbb/parallel_for.h>
+
 #include "sample/sampled_frame.h"
 #include "tier/progress_backend.h"
 #include "tier/tier.h"
+#include "tracer/parallel_render.h"
 
 namespace rtusim {
 namespace {
@@ -64,17 +67,27 @@ void add_report_stats(const FrameResult& frame, double fps, double seconds, Stat
   s.set("trace.rays_per_second", seconds > 0 ? rays / seconds : 0.0);
 }
 
-// Traces the frame through `backend` (with a progress bar) and times it.
+// Traces the frame through `backend` (with a progress bar when `progress_bar`) on every core
+// the tier allows, and times it.
 FrameResult render_timed(const Prepared& p, TraceBackend& backend, const std::string& label,
-                         double& seconds) {
+                         bool progress_bar, double& seconds) {
   const int w = p.config.image.width, h = p.config.image.height;
-  ProgressBackend progress(backend, uint64_t(w) * h, label);
-  WhittedTracer tracer(p.scene, p.config.tracer, progress);
+  std::optional<ProgressBackend> progress;
+  if (progress_bar) progress.emplace(backend, uint64_t(w) * h, label);
+  TraceBackend& target = progress ? static_cast<TraceBackend&>(*progress) : backend;
   const auto t0 = std::chrono::steady_clock::now();
-  FrameResult frame = tracer.render(PinholeCamera(p.camera, w, h), w, h);
+  FrameResult frame =
+      parallel_render(p.scene, p.config.tracer, target, PinholeCamera(p.camera, w, h), w, h);
   seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return frame;
 }
+
+// One layout's run: its stats, pixel charges and frame, and the trace's seconds.
+struct LayoutResult {
+  LayoutRun run;
+  FrameResult frame;
+  double seconds = 0.0;
+};
 
 }  // namespace
 
@@ -83,12 +96,17 @@ SimulationResult simulate(const Prepared& p) {
   const int w = p.config.image.width, h = p.config.image.height;
   const FetchCacheParams caches = p.config.fetch_caches();
   const CycleParams cycle = p.config.cycle();
-  // Sampled simulation (sample.*): the same units for every layout.
+  // Sampled simulation (sample.*): the same units for every layout, one layout after another.
   std::optional<SampledFrame> sampler;
   if (p.config.sample.active()) sampler.emplace(p.config.sample, w, h, p.config.tracer.order);
-  for (const MemoryImage& image : p.images) {
+  // Several layouts at once where the tier allows it (each without a progress bar then).
+  const bool concurrent = !sampler && p.images.size() > 1 && parallel_threads() > 1 &&
+                          tier_runs_concurrently(p.config.sim.tier);
+  std::vector<LayoutResult> runs(p.images.size());
+  auto run_layout = [&](size_t i) {
     // The same rays for every layout: hits do not depend on the layout, so neither do rays.
-    LayoutRun run;
+    const MemoryImage& image = p.images[i];
+    LayoutRun& run = runs[i].run;
     run.kind = image.layout;
     add_image_stats(image, run.stats);
     // The tier's params for this layout: one VCD per layout when there are several.
@@ -100,24 +118,30 @@ SimulationResult simulate(const Prepared& p) {
                                        .string();
     }
     const std::unique_ptr<TierRun> tier = make_tier(p.config.sim.tier, image, tier_config);
-    double seconds = 0.0;
-    FrameResult frame;
     if (sampler) {
       WhittedTracer tracer(p.scene, p.config.tracer, tier->backend());
-      frame = sampler->render(tracer, PinholeCamera(p.camera, w, h), *tier, image.layout, seconds);
+      runs[i].frame = sampler->render(tracer, PinholeCamera(p.camera, w, h), *tier, image.layout,
+                                      runs[i].seconds);
     } else {
-      frame = render_timed(p, tier->backend(), image.layout, seconds);
+      runs[i].frame = render_timed(p, tier->backend(), image.layout, !concurrent, runs[i].seconds);
     }
     tier->write_stats(run.stats);
     run.pixel_dram_bytes = tier->pixel_dram_bytes();
     tier->finish();
-    if (sampler) sampler->finish_layout(frame, run.stats);
+    if (sampler) sampler->finish_layout(runs[i].frame, run.stats);
+  };
+  if (concurrent) tbb::parallel_for(size_t{0}, p.images.size(), run_layout);
+  else for (size_t i = 0; i < p.images.size(); ++i) run_layout(i);
+
+  for (LayoutResult& lr : runs) {
+    LayoutRun& run = lr.run;
+    FrameResult& frame = lr.frame;
     if (!result.layouts.empty() &&
         (frame.rays_by_kind != result.frame.rays_by_kind ||
          std::memcmp(frame.radiance.data(), result.frame.radiance.data(),
                      frame.radiance.size() * sizeof(glm::vec3)) != 0))
-      throw std::logic_error("layout " + image.layout + " changed the frame: a layout bug");
-    add_report_stats(frame, p.config.report.frames_per_second, seconds, run.stats);
+      throw std::logic_error("layout " + run.kind + " changed the frame: a layout bug");
+    add_report_stats(frame, p.config.report.frames_per_second, lr.seconds, run.stats);
     if (result.layouts.empty()) result.frame = std::move(frame);
     result.layouts.push_back(std::move(run));
   }

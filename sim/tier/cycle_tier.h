@@ -9,6 +9,8 @@ namespace rtusim {
 class CycleTier : public TierRun {
  public:
   static constexpr const char* kName = "cycle";
+  // SystemC's kernel is one global simulation: one layout at a time.
+  static constexpr bool kConcurrentLayouts = false;
   CycleTier(const MemoryImage& image, const TierConfig& config) : backend_(image, config.cycle) {}
 
   TraceBackend& backend() override { return backend_; }

@@ -4,6 +4,7 @@
 #include <algorithm>
 
 #include "layout/layout_dispatch.h"
+#include "tracer/fetch_log.h"
 #include "traversal/traversal.h"
 
 namespace rtusim {
@@ -60,6 +61,25 @@ void FunctionalBackend::trace_interleaved(std::span<const RayRecord> rays, std::
         }
       }
     });
+  });
+}
+
+// The same cache accesses and pixel charges as trace() of the log's rays.
+void FunctionalBackend::replay(const FetchLog& log) {
+  caches_.with_inlined_node_l1([&](auto& sink) {
+    struct ChargingSink {
+      std::remove_reference_t<decltype(sink)>& caches;
+      FunctionalBackend& backend;
+      uint64_t before;  // DRAM bytes when the current ray began
+      void fetch(Stream s, uint64_t addr, uint32_t bytes) { caches.fetch(s, addr, bytes); }
+      void end_ray(uint32_t pixel, RayKind) {
+        const uint64_t now = backend.caches_.dram_bytes_total();
+        if (pixel < backend.pixel_dram_bytes_.size()) backend.pixel_dram_bytes_[pixel] += now - before;
+        before = now;
+      }
+    };
+    ChargingSink charging{sink, *this, caches_.dram_bytes_total()};
+    log.replay(charging);
   });
 }
 

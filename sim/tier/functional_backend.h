@@ -19,6 +19,11 @@ class FunctionalBackend final : public TraceBackend {
   FunctionalBackend(const MemoryImage& image, const FetchCacheParams& caches, uint32_t pixels,
                     int rays_in_flight = 1);
   void trace(std::span<const RayRecord> rays, std::span<Hit> hits) override;
+  // Replay (parallel tracing) reproduces one ray at a time only: the interleaved mode stays serial.
+  const MemoryImage* replay_image() const override {
+    return rays_in_flight_ > 1 ? nullptr : &image_;
+  }
+  void replay(const FetchLog& log) override;
 
   const FetchCache& caches() const { return caches_; }
   // DRAM bytes (all streams) caused by each pixel's whole ray tree.

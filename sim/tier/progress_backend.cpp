@@ -6,6 +6,8 @@
 
 #include <unistd.h>
 
+#include "tracer/fetch_log.h"
+
 namespace rtusim {
 
 namespace {
@@ -31,7 +33,18 @@ ProgressBackend::~ProgressBackend() {
 void ProgressBackend::trace(std::span<const RayRecord> rays, std::span<Hit> hits) {
   inner_.trace(rays, hits);
   if (!enabled_) return;
-  for (const RayRecord& r : rays) done_ += r.kind == RayKind::kPrimary;
+  uint64_t primary = 0;
+  for (const RayRecord& r : rays) primary += r.kind == RayKind::kPrimary;
+  advance(primary);
+}
+
+void ProgressBackend::replay(const FetchLog& log) {
+  inner_.replay(log);
+  if (enabled_) advance(log.ray_count(RayKind::kPrimary));
+}
+
+void ProgressBackend::advance(uint64_t primary_rays) {
+  done_ += primary_rays;
   const auto now = std::chrono::steady_clock::now();
   if (std::chrono::duration<double>(now - start_).count() < quiet_seconds_ ||
       std::chrono::duration<double>(now - last_draw_).count() < kRedrawSeconds)

@@ -13,8 +13,11 @@ class ProgressBackend final : public TraceBackend {
   ProgressBackend(TraceBackend& inner, uint64_t primary_rays, std::string label);
   ~ProgressBackend() override;
   void trace(std::span<const RayRecord> rays, std::span<Hit> hits) override;
+  const MemoryImage* replay_image() const override { return inner_.replay_image(); }
+  void replay(const FetchLog& log) override;
 
  private:
+  void advance(uint64_t primary_rays);
   void draw(bool final);
 
   TraceBackend& inner_;

@@ -44,6 +44,8 @@ class TierRun {
 std::unique_ptr<TierRun> make_tier(const std::string& name, const MemoryImage& image,
                                    const TierConfig& config);
 std::vector<std::string> tier_names();
+// Whether runs of tier `name` for several layouts may proceed at once on different threads.
+bool tier_runs_concurrently(const std::string& name);
 // Reads sim.tier (declared in tier.cpp).
 std::string read_tier_name(ConfigReader& r);
 

@@ -2,6 +2,7 @@
 #include "trace/node_stream_backend.h"
 
 #include "layout/layout_dispatch.h"
+#include "tracer/fetch_log.h"
 #include "traversal/traversal.h"
 
 namespace rtusim {
@@ -13,6 +14,7 @@ struct NodeOnlySink {
   void fetch(Stream s, uint64_t addr, uint32_t /*bytes*/) {
     if (s == Stream::kNode) recorder.node_fetch(addr);
   }
+  void end_ray(uint32_t /*pixel*/, RayKind) {}
 };
 
 }  // namespace
@@ -23,6 +25,11 @@ void NodeStreamBackend::trace(std::span<const RayRecord> rays, std::span<Hit> hi
     for (size_t i = 0; i < rays.size(); ++i)
       hits[i] = traverse<Decoder>(image_, rays[i].ray, rays[i].any_hit(), sink);
   });
+}
+
+void NodeStreamBackend::replay(const FetchLog& log) {
+  NodeOnlySink sink{recorder_};
+  log.replay(sink);
 }
 
 }  // namespace rtusim

@@ -22,6 +22,8 @@ class NodeStreamBackend final : public TraceBackend {
   NodeStreamBackend(const MemoryImage& image, NodeStreamRecorder& recorder)
       : image_(image), recorder_(recorder) {}
   void trace(std::span<const RayRecord> rays, std::span<Hit> hits) override;
+  const MemoryImage* replay_image() const override { return &image_; }
+  void replay(const FetchLog& log) override;
 
  private:
   const MemoryImage& image_;

@@ -22,6 +22,8 @@ class HostBackend final : public TraceBackend {
  public:
   explicit HostBackend(const MemoryImage& image) : image_(image) {}
   void trace(std::span<const RayRecord> rays, std::span<Hit> hits) override;
+  const MemoryImage* replay_image() const override { return &image_; }
+  void replay(const FetchLog& log) override;
   const FetchCounts& counts() const { return counts_; }
 
  private:

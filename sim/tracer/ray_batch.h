@@ -9,6 +9,9 @@
 
 namespace rtusim {
 
+class FetchLog;
+struct MemoryImage;
+
 enum class RayKind : uint8_t { kPrimary = 0, kShadow = 1, kReflection = 2, kRefraction = 3 };
 constexpr int kRayKinds = 4;
 
@@ -24,6 +27,12 @@ class TraceBackend {
  public:
   virtual ~TraceBackend() = default;
   virtual void trace(std::span<const RayRecord> rays, std::span<Hit> hits) = 0;
+
+  // A backend whose state depends only on its rays' fetches (caches, recorders) can take rays
+  // traversed elsewhere (tracer/parallel_render.h): it names the image to traverse, and
+  // replay() then does what trace() of the log's rays would have done. nullptr: trace() only.
+  virtual const MemoryImage* replay_image() const { return nullptr; }
+  virtual void replay(const FetchLog& log);
 };
 
 }  // namespace rtusim
