@@ -1,6 +1,7 @@
 // Watertight ray/triangle intersection (Woop, Benthin, Wald, JCGT 2013): rays through shared
 // edges and vertices of a closed mesh never leak between its triangles.
 #pragma once
+#include <algorithm>
 #include <cmath>
 #include <utility>
 
@@ -14,6 +15,7 @@ struct WatertightRay {
   int kx = 0, ky = 1, kz = 2;
   float ox = 0.0f, oy = 0.0f, oz = 0.0f;  // origin[kx], origin[ky], origin[kz]
   float sx = 0.0f, sy = 0.0f, sz = 1.0f;
+  float dx = 0.0f, dy = 0.0f, dz = 1.0f;  // dir[kx], dir[ky], dir[kz] (for the refinement)
 
   WatertightRay() = default;
   WatertightRay(const glm::vec3& o, const glm::vec3& d) {
@@ -28,8 +30,52 @@ struct WatertightRay {
     sx = d[kx] / d[kz];
     sy = d[ky] / d[kz];
     sz = 1.0f / d[kz];
+    dx = d[kx];
+    dy = d[ky];
+    dz = d[kz];
   }
 };
+
+namespace watertight_detail {
+
+// gamma(n) of Higham / pbrt: bounds the relative error of n float roundings.
+constexpr float gamma_f(int n) {
+  constexpr float eps = 0.5f * 1.1920929e-7f;  // unit roundoff 2^-24
+  return (n * eps) / (1.0f - n * eps);
+}
+
+// t of the ray through the triangle's plane, recomputed in double from the float inputs (all
+// coordinates permuted like the ray's): (n . (p0 - o)) / (n . d). Returns a value <= 0 when the
+// origin lies on the plane within the double computation's own error (the exact t is 0 there),
+// or behind it.
+[[gnu::noinline]] inline double refine_t(const WatertightRay& r, const float* v) {
+  const double o[3] = {r.ox, r.oy, r.oz};
+  const double d[3] = {r.dx, r.dy, r.dz};
+  double p[3][3];
+  for (int i = 0; i < 3; ++i) {
+    p[i][0] = v[3 * i + r.kx];
+    p[i][1] = v[3 * i + r.ky];
+    p[i][2] = v[3 * i + r.kz];
+  }
+  const double e1[3] = {p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]};
+  const double e2[3] = {p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
+  const double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                       e1[0] * e2[1] - e1[1] * e2[0]};
+  const double w[3] = {p[0][0] - o[0], p[0][1] - o[1], p[0][2] - o[2]};
+  const double num = n[0] * w[0] + n[1] * w[1] + n[2] * w[2];
+  const double den = n[0] * d[0] + n[1] * d[1] + n[2] * d[2];
+  // Differences of floats are exact in double; each product and sum adds a rounding of 2^-53,
+  // and n's own rounding is below that of its terms: 1e-13 of the magnitudes covers all of it.
+  const double num_err =
+      1e-13 * (std::abs(n[0] * w[0]) + std::abs(n[1] * w[1]) + std::abs(n[2] * w[2]) +
+               (std::abs(e1[1] * e2[2]) + std::abs(e1[2] * e2[1]) + std::abs(e1[2] * e2[0]) +
+                std::abs(e1[0] * e2[2]) + std::abs(e1[0] * e2[1]) + std::abs(e1[1] * e2[0])) *
+                   (std::abs(w[0]) + std::abs(w[1]) + std::abs(w[2])));
+  if (std::abs(num) <= num_err || den == 0.0) return 0.0;
+  return num / den;
+}
+
+}  // namespace watertight_detail
 
 // Intersects the triangle whose vertices are v[0..2], v[3..5], v[6..8] (x, y, z each) over t in
 // (0, t_max). On a hit sets t and the barycentrics (u of the second vertex, v of the third)
@@ -54,13 +100,36 @@ struct WatertightRay {
   const float det = U + V + W;
   if (det == 0.0f) return false;  // ray in the triangle's plane, or a degenerate triangle
 
-  // Scaled hit distance, compared before the division.
+  // Scaled hit distance T = t * det.
   const float T = U * (r.sz * Az) + V * (r.sz * Bz) + W * (r.sz * Cz);
-  if (det > 0.0f ? (T <= 0.0f || T >= t_max * det) : (T >= 0.0f || T <= t_max * det))
-    return false;
   const float inv = 1.0f / det;
-  t = T * inv;
-  if (!(t > 0.0f) || !(t < t_max)) return false;
+
+  // t's rounding error (pbrt's conservative bound, PBR 3rd ed. 3.9.6). Where |t| is not at
+  // least kRefineAbove times the bound, the float t may be far off in relative terms, a hit at
+  // t ~ 0 from an origin on the plane may be spurious, or a genuine near hit may come out
+  // negative: t is recomputed in double instead.
+  using watertight_detail::gamma_f;
+  constexpr float kRefineAbove = 1024.0f;
+  const float max_zt = std::max({std::abs(r.sz * Az), std::abs(r.sz * Bz), std::abs(r.sz * Cz)});
+  const float max_xt = std::max({std::abs(Ax), std::abs(Bx), std::abs(Cx)});
+  const float max_yt = std::max({std::abs(Ay), std::abs(By), std::abs(Cy)});
+  const float delta_x = gamma_f(5) * (max_xt + max_zt), delta_y = gamma_f(5) * (max_yt + max_zt);
+  const float delta_z = gamma_f(3) * max_zt;
+  const float delta_e = 2.0f * (gamma_f(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
+  const float max_e = std::max({std::abs(U), std::abs(V), std::abs(W)});
+  const float delta_t =
+      3.0f * (gamma_f(3) * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * std::abs(inv);
+  if (std::abs(T * inv) <= kRefineAbove * delta_t) [[unlikely]] {
+    const double td = watertight_detail::refine_t(r, v);
+    t = static_cast<float>(td);
+    if (!(td > 0.0) || !(t > 0.0f) || !(t < t_max)) return false;
+  } else {
+    // Compared before the division.
+    if (det > 0.0f ? (T <= 0.0f || T >= t_max * det) : (T >= 0.0f || T <= t_max * det))
+      return false;
+    t = T * inv;
+    if (!(t > 0.0f) || !(t < t_max)) return false;
+  }
   bu = V * inv;
   bv = W * inv;
   return true;
