@@ -14,7 +14,14 @@ const StringListParam kLayoutKind("layout.kind", {"dfl"}, Layouts::names(),
 
 std::vector<std::string> layout_kinds() { return Layouts::names(); }
 
-std::vector<std::string> read_layout_kinds(ConfigReader& r) { return kLayoutKind.read(r); }
+std::vector<std::string> read_layout_kinds(ConfigReader& r) {
+  std::vector<std::string> kinds = kLayoutKind.read(r);
+  // Each layout once: outputs and stats are named by layout.
+  for (size_t i = 0; i < kinds.size(); ++i)
+    for (size_t j = 0; j < i; ++j)
+      if (kinds[i] == kinds[j]) r.fail(KeyError("layout.kind", "'" + kinds[i] + "' is listed twice"));
+  return kinds;
+}
 
 std::unique_ptr<Layout> make_layout(const std::string& kind) {
   if (!Layouts::contains(kind))

@@ -12,7 +12,7 @@ namespace rtusim {
 namespace {
 
 const UnitParams kDefaults;
-const IntParam kRaysInFlight("sim.rays_in_flight", kDefaults.rays_in_flight, 1, 1 << 20, "rays",
+const IntParam kRaysInFlight("sim.rays_in_flight", kDefaults.rays_in_flight, 1, 1 << 16, "rays",
                              "rays the unit holds at once");
 const IntParam kStepCycles("sim.step_cycles", kDefaults.step_cycles, 0, 1 << 20, "cycles",
                            "node data in to traversal step decided");

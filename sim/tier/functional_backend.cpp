@@ -21,8 +21,7 @@ void FunctionalBackend::trace(std::span<const RayRecord> rays, std::span<Hit> hi
       for (size_t i = 0; i < rays.size(); ++i) {
         const uint64_t before = caches_.dram_bytes_total();
         hits[i] = traverse<Decoder>(image_, rays[i].ray, rays[i].any_hit(), sink);
-        if (rays[i].pixel < pixel_dram_bytes_.size())
-          pixel_dram_bytes_[rays[i].pixel] += caches_.dram_bytes_total() - before;
+        charge(rays[i].pixel, caches_.dram_bytes_total() - before);
       }
     });
   });
@@ -52,8 +51,7 @@ void FunctionalBackend::trace_interleaved(std::span<const RayRecord> rays, std::
           const uint32_t pixel = rays[slot.ray].pixel;
           const uint64_t before = caches_.dram_bytes_total();
           const StepKind step = traversal_step<Decoder>(slot.state, image_, sink);
-          if (pixel < pixel_dram_bytes_.size())
-            pixel_dram_bytes_[pixel] += caches_.dram_bytes_total() - before;
+          charge(pixel, caches_.dram_bytes_total() - before);
           if (step != StepKind::kDone && !slot.state.done) continue;
           hits[slot.ray] = slot.state.hit;
           start(slot);
@@ -74,7 +72,7 @@ void FunctionalBackend::replay(const FetchLog& log) {
       void fetch(Stream s, uint64_t addr, uint32_t bytes) { caches.fetch(s, addr, bytes); }
       void end_ray(uint32_t pixel, RayKind) {
         const uint64_t now = backend.caches_.dram_bytes_total();
-        if (pixel < backend.pixel_dram_bytes_.size()) backend.pixel_dram_bytes_[pixel] += now - before;
+        backend.charge(pixel, now - before);
         before = now;
       }
     };

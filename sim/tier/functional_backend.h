@@ -6,6 +6,8 @@
 // the batch's next ray. That is the cycle tier's ray interleaving without time: it predicts the
 // node stream of a unit that holds that many rays, at about the functional tier's cost.
 #pragma once
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "cache/stream_caches.h"
@@ -33,6 +35,13 @@ class FunctionalBackend final : public TraceBackend {
  private:
   // The interleaved mode's trace (rays_in_flight_ > 1).
   void trace_interleaved(std::span<const RayRecord> rays, std::span<Hit> hits);
+  // Charges `bytes` to `pixel`; a ray outside the frame is a tracer bug, not something to drop.
+  void charge(uint32_t pixel, uint64_t bytes) {
+    if (pixel >= pixel_dram_bytes_.size()) [[unlikely]]
+      throw std::logic_error("functional tier: a ray of pixel " + std::to_string(pixel) +
+                             " outside the frame's " + std::to_string(pixel_dram_bytes_.size()));
+    pixel_dram_bytes_[pixel] += bytes;
+  }
 
   const MemoryImage& image_;
   FetchCache caches_;

@@ -76,6 +76,9 @@ expect_bad cfg_set_no_equals 'tracer.max_depth' run "$D" --set tracer.max_depth
 expect_bad cfg_set_unknown 'tracer.bogus' run "$D" --set tracer.bogus=1
 expect_bad cfg_layout_unknown "layout.kind: unknown value 'zfl'" run "$D" --set layout.kind=zfl
 expect_bad cfg_tier_unknown "sim.tier: unknown value 'gpu'" run "$D" --set sim.tier=gpu
+expect_bad cfg_layout_twice "^rtusim: --set layout.kind=.*: layout.kind: 'dfl' is listed twice$" run "$D" --set 'layout.kind=["dfl","dfl"]'
+expect_bad cfg_dram_burst_row '^rtusim: --set dram.bus_bytes=48: dram.bus_bytes: 48 x dram.burst_length 8 = 384 bytes per burst does not divide dram.row_bytes = 8192' run "$D" --set sim.tier=cycle --set dram.bus_bytes=48
+expect_bad cfg_rays_in_flight_max 'sim.rays_in_flight: must be between 1 and 65536' run "$D" --set sim.tier=cycle --set sim.rays_in_flight=1048576
 expect_bad cfg_dram_channels 'dram.channels: must be between' run "$D" --set sim.tier=cycle --set dram.channels=0
 expect_bad cfg_l1_size 'l1.size' run "$D" --set l1.size=8000
 expect_bad cfg_width_huge 'image.width' run "$D" --set image.width=100000000

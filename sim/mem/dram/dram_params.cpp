@@ -50,8 +50,11 @@ void validate(const DramParams& p, const std::string& prefix) {
   if (p.bus_bytes == 0) fail("bus_bytes", "must be positive");
   if (p.burst_length == 0) fail("burst_length", "must be positive");
   if (p.row_bytes < p.burst_bytes() || p.row_bytes % p.burst_bytes() != 0)
-    fail("row_bytes", std::to_string(p.row_bytes) + " is not a multiple of a burst (" +
-                          std::to_string(p.burst_bytes()) + " bytes)");
+    throw KeyError({prefix + ".bus_bytes", prefix + ".burst_length", prefix + ".row_bytes"},
+                   std::to_string(p.bus_bytes) + " x " + prefix + ".burst_length " +
+                       std::to_string(p.burst_length) + " = " + std::to_string(p.burst_bytes()) +
+                       " bytes per burst does not divide " + prefix + ".row_bytes = " +
+                       std::to_string(p.row_bytes));
   if (p.data_rate_mts == 0) fail("data_rate_mts", "must be positive");
   if (!(p.tRCD_ns >= 0) || !(p.tRP_ns >= 0) || !(p.tCL_ns >= 0))
     fail("tRCD_ns", "timings must be non-negative");
