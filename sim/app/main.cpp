@@ -46,6 +46,8 @@ int main(int argc, char** argv) {
   regress->add_flag("--update", regress_opts.update,
                     "Rewrite every expected.json from this build (scripts/update_references.sh)");
 
+  auto* sweep = add_sweep_subcommand(app);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -63,6 +65,7 @@ int main(int argc, char** argv) {
     if (*trace) return trace_command(trace_opts);
     if (*replay) return replay_command(replay_opts);
     if (*regress) return regress_command(regress_opts);
+    if (*sweep) return sweep_command();
   } catch (const InputError& e) {
     std::cerr << "rtusim: " << e.what() << "\n";
     return 2;

@@ -1,0 +1,129 @@
+#include "sweep/cache_sweep.h"
+
+#include <algorithm>
+#include <bit>
+#include <map>
+#include <set>
+
+namespace rtusim {
+
+// LRU engines sharing one line size: the line stream is decoded once for all of them.
+struct CacheSweep::LineGroup {
+  uint32_t shift = 0;
+  PerTag accesses{};
+  std::unique_ptr<FullyAssocLruStack> full;
+  std::vector<uint64_t> full_capacities;         // lines, increasing
+  std::vector<PerTag> full_hist;                 // per region (+1: misses in all)
+  std::vector<SetLruStacks> set_stacks;
+  std::vector<std::vector<PerTag>> set_hist;     // per engine, per distance (+1: beyond)
+
+  void feed(std::span<const SweepFetch> fetches) {
+    for (const SweepFetch& f : fetches) {
+      if (f.bytes == 0) continue;
+      const uint64_t first = f.addr >> shift, last = (f.addr + f.bytes - 1) >> shift;
+      for (uint64_t line = first; line <= last; ++line) {
+        ++accesses[f.tag];
+        if (full) ++full_hist[full->access(static_cast<uint32_t>(line))][f.tag];
+        for (size_t e = 0; e < set_stacks.size(); ++e)
+          ++set_hist[e][set_stacks[e].access(line)][f.tag];
+      }
+    }
+  }
+
+  // Hits of a cache that hits on every histogram entry below `n`.
+  static PerTag hits_below(const std::vector<PerTag>& hist, uint32_t n) {
+    PerTag h{};
+    for (uint32_t d = 0; d < n; ++d)
+      for (int t = 0; t < kTags; ++t) h[t] += hist[d][t];
+    return h;
+  }
+};
+
+CacheSweep::CacheSweep(const std::vector<CacheParams>& configs, uint64_t image_bytes) {
+  // Group the LRU configurations by line size, then by set count.
+  std::map<uint32_t, std::map<uint64_t, uint32_t>> depth;  // line -> sets -> most ways
+  std::map<uint32_t, std::set<uint64_t>> full;             // line -> one-set capacities
+  for (const CacheParams& c : configs) {
+    if (c.policy != "lru") continue;
+    if (c.sets() == 1) {
+      full[c.line_bytes].insert(c.assoc);
+    } else {
+      uint32_t& d = depth[c.line_bytes][c.sets()];
+      d = std::max(d, c.assoc);
+    }
+  }
+  std::map<uint32_t, int> group_of_line;
+  for (const CacheParams& c : configs) {
+    if (c.policy != "lru" || group_of_line.count(c.line_bytes)) continue;
+    auto g = std::make_unique<LineGroup>();
+    g->shift = static_cast<uint32_t>(std::countr_zero(c.line_bytes));
+    if (auto it = full.find(c.line_bytes); it != full.end()) {
+      g->full_capacities.assign(it->second.begin(), it->second.end());
+      g->full = std::make_unique<FullyAssocLruStack>(g->full_capacities,
+                                                     (image_bytes >> g->shift) + 1);
+      g->full_hist.assign(g->full_capacities.size() + 1, PerTag{});
+    }
+    for (const auto& [sets, ways] : depth[c.line_bytes]) {
+      g->set_stacks.emplace_back(static_cast<uint32_t>(sets), ways);
+      g->set_hist.emplace_back(ways + 1, PerTag{});
+    }
+    group_of_line[c.line_bytes] = static_cast<int>(groups_.size());
+    groups_.push_back(std::move(g));
+  }
+  // Where each configuration's counts come from.
+  for (const CacheParams& c : configs) {
+    Where w;
+    if (c.policy == "lru") {
+      w.line_group = group_of_line.at(c.line_bytes);
+      const LineGroup& g = *groups_[w.line_group];
+      if (c.sets() == 1) {
+        const auto& caps = g.full_capacities;
+        w.level = static_cast<uint32_t>(std::find(caps.begin(), caps.end(), c.assoc) - caps.begin());
+      } else {
+        for (size_t e = 0; e < g.set_stacks.size(); ++e)
+          if (g.set_stacks[e].sets() == c.sets()) w.engine = static_cast<int>(e);
+        w.level = c.assoc;
+      }
+    } else {
+      w.side_cache = static_cast<int>(side_.size());
+      side_.push_back(SideCache{SetAssocCache(c)});
+    }
+    where_.push_back(w);
+  }
+}
+
+CacheSweep::~CacheSweep() = default;
+
+void CacheSweep::feed(std::span<const SweepFetch> fetches) {
+  for (auto& g : groups_) g->feed(fetches);
+  for (SideCache& s : side_) {
+    s.cache.visit([&](auto& cache) {
+      for (const SweepFetch& f : fetches) {
+        if (f.bytes == 0) continue;
+        const uint64_t before = cache.accesses();
+        s.misses[f.tag] += cache.access_range(f.addr, f.bytes);
+        s.accesses[f.tag] += cache.accesses() - before;
+      }
+    });
+  }
+}
+
+CacheSweep::PerTag CacheSweep::accesses(size_t i) const {
+  const Where& w = where_[i];
+  return w.side_cache >= 0 ? side_[w.side_cache].accesses : groups_[w.line_group]->accesses;
+}
+
+CacheSweep::PerTag CacheSweep::misses(size_t i) const {
+  const Where& w = where_[i];
+  if (w.side_cache >= 0) return side_[w.side_cache].misses;
+  const LineGroup& g = *groups_[w.line_group];
+  // A one-set cache of capacity index k hits in regions 0..k; a set stack of `ways` ways hits at
+  // distances below `ways`.
+  const PerTag hits = w.engine < 0 ? LineGroup::hits_below(g.full_hist, w.level + 1)
+                                   : LineGroup::hits_below(g.set_hist[w.engine], w.level);
+  PerTag m{};
+  for (int t = 0; t < kTags; ++t) m[t] = g.accesses[t] - hits[t];
+  return m;
+}
+
+}  // namespace rtusim

@@ -1,0 +1,8 @@
+#include "sweep/set_lru_stacks.h"
+
+namespace rtusim {
+
+SetLruStacks::SetLruStacks(uint32_t sets, uint32_t depth)
+    : set_mask_(sets - 1), depth_(depth), stacks_(uint64_t{sets} * depth, kEmpty) {}
+
+}  // namespace rtusim

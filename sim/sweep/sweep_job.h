@@ -1,0 +1,26 @@
+// Runs one job of a sweep plan and returns its rows: the stats of each of its points, exactly
+// the stats.json keys `rtusim run` writes for that point, timing keys left out.
+//  - A functional job prepares the scene and tree once (every layout of the job), runs the
+//    first point through simulate() (the reference, and the source of every key that does not
+//    depend on the cache), then traces the frame once per layout through a SweepBackend that
+//    evaluates every cache configuration of the job in the same pass. The first point's cache
+//    counts from that pass must equal simulate()'s, or the job fails as an internal error.
+//  - A timed job (cycle, rtl) is one point through simulate().
+#pragma once
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "sweep/sweep_plan.h"
+
+namespace rtusim {
+
+// {"job": K, "points": N, "seconds": S, "rows": {"<point index>": {stats key: value}}}.
+// `base_path` is the base config file (the sweep's base.toml).
+nlohmann::json run_sweep_job(const SweepPlan& plan, size_t job, const std::string& base_path);
+
+// Whether a stats key is a timing (left out of the rows): ends in "seconds", or a rate per
+// second of wall time.
+bool is_timing_key(const std::string& key);
+
+}  // namespace rtusim
