@@ -36,10 +36,12 @@ bool is_cache_key(const std::string& key) {
   return keys.count(key) != 0;
 }
 
-// Inner dimensions in this order (the rest by name): layout, policy, line, assoc, size.
+// Inner dimensions in this order (the rest by name): layout, then per cache policy, line,
+// associativity, size (the size varies fastest: a row block is a miss-ratio curve).
 int inner_rank(const std::string& key) {
-  static const std::vector<std::string> order = {"layout.kind", "l1.policy", "l1.line",
-                                                 "l1.assoc", "l1.size"};
+  static const std::vector<std::string> order = {
+      "layout.kind",   "l1.policy",   "l1.line",      "l1.assoc",   "l1.size",
+      "dcache.policy", "dcache.line", "dcache.assoc", "dcache.size"};
   const auto it = std::find(order.begin(), order.end(), key);
   return static_cast<int>(it - order.begin());
 }
@@ -208,6 +210,8 @@ class TempFile {
 
 // The message of a config error with the temporary base file's name (and line) cut off.
 std::string inner_message(const std::string& what, const std::string& base_path) {
+  if (what.rfind("--set ", 0) == 0 && what.find(": ") != std::string::npos)
+    return what.substr(what.find(": ") + 2);  // the sweep names the key and value itself
   if (what.rfind(base_path, 0) != 0) return what;
   size_t i = base_path.size();
   if (i < what.size() && what[i] == ':') ++i;

@@ -156,7 +156,10 @@ int run_dask(const SweepPlan& plan, const SweepDir& dir, const SweepRunOptions& 
                                    (fs::path(RTUSIM_SOURCE_DIR) / "scripts" / "sweep_dask.py").string(),
                                    "--scheduler", o.scheduler, "--jobs"};
   std::string list;
-  for (const size_t j : pending) list += (list.empty() ? "" : ",") + std::to_string(j);
+  for (const size_t j : pending) {
+    if (!list.empty()) list += ',';
+    list += std::to_string(j);
+  }
   argv.push_back(list);
   argv.push_back("--");
   for (const auto& a : job_command(o, dir)) argv.push_back(a);
