@@ -2,7 +2,7 @@
 """Plots of an `rtusim sweep` (run by the command itself; or by hand: sweep_plot.py DIR).
 
 From DIR/results.csv and DIR/sweep.toml (which columns were swept):
-  miss_ratio_curves[_<case>].png  node DRAM bytes per ray against L1 size (log2 axis), one line
+  miss_ratio_curves[_<case>].png  node DRAM bytes per ray (log axis) against L1 size (log2 axis), one line
                                   per associativity, one panel per layout x line size; one file
                                   per combination of the other swept keys (a scene, ...)
   layout_comparison.png           node DRAM bytes per ray of each layout at the default cache
@@ -78,8 +78,8 @@ def main():
     def case_of(row):
         return tuple(row[k] for k in other)
 
-    def case_title(case):
-        return ", ".join(f"{k} = {short(v)}" for k, v in zip(other, case) if v != "")
+    def case_title(case, sep=", "):
+        return sep.join(f"{k} = {short(v)}" for k, v in zip(other, case) if v != "")
 
     # Miss-ratio curves.
     if "l1.size" in swept:
@@ -107,6 +107,7 @@ def main():
                         ax.plot([int(r["l1.size"]) / 1024 for r in pts],
                                 [float(r[Y_KEY]) for r in pts], marker="o", ms=3, label=label)
                     ax.set_xscale("log", base=2)
+                    ax.set_yscale("log")
                     sizes = sorted({int(r["l1.size"]) for r in panel})
                     ax.set_xticks([s / 1024 for s in sizes], [size_label(s) for s in sizes])
                     ax.set_title(f"{layout or 'layout'}, {line or '?'} B lines", fontsize=10)
@@ -133,7 +134,7 @@ def main():
         if at_default:
             cases = list(dict.fromkeys(case_of(r) for r in at_default))
             layouts = list(dict.fromkeys(r["layout.kind"] for r in at_default))
-            fig, ax = plt.subplots(figsize=(max(5, 1.8 * len(cases) * len(layouts) / 2), 4))
+            fig, ax = plt.subplots(figsize=(max(6, 1.2 * len(cases) * len(layouts)), 4.5))
             width = 0.8 / len(layouts)
             for li, layout in enumerate(layouts):
                 vals = []
@@ -143,7 +144,7 @@ def main():
                 xs = [c + (li - (len(layouts) - 1) / 2) * width for c in range(len(cases))]
                 bars = ax.bar(xs, vals, width, label=layout)
                 ax.bar_label(bars, fmt="%.0f", fontsize=7)
-            ax.set_xticks(range(len(cases)), [case_title(c) or "base config" for c in cases],
+            ax.set_xticks(range(len(cases)), [case_title(c, "\n") or "base config" for c in cases],
                           fontsize=8)
             ax.set_ylabel(Y_LABEL)
             ax.set_title("Layouts at the default node L1 (8 KB, 4-way, 64 B lines, LRU)")

@@ -4,6 +4,7 @@
 #include <bit>
 #include <map>
 #include <set>
+#include <stdexcept>
 
 namespace rtusim {
 
@@ -11,11 +12,14 @@ namespace rtusim {
 struct CacheSweep::LineGroup {
   uint32_t shift = 0;
   PerTag accesses{};
+  PerTag repeats{};               // accesses to the line accessed just before
+  uint64_t last_line = ~uint64_t{0};
   std::unique_ptr<FullyAssocLruStack> full;
   std::vector<uint64_t> full_capacities;         // lines, increasing
   std::vector<PerTag> full_hist;                 // per region (+1: misses in all)
   std::vector<SetLruStacks> set_stacks;
   std::vector<std::vector<PerTag>> set_hist;     // per engine, per distance (+1: beyond)
+  std::vector<PerTag> mru_from;  // accesses at distance 0 in engine e and every later engine
 
   void feed(std::span<const SweepFetch> fetches) {
     for (const SweepFetch& f : fetches) {
@@ -23,9 +27,24 @@ struct CacheSweep::LineGroup {
       const uint64_t first = f.addr >> shift, last = (f.addr + f.bytes - 1) >> shift;
       for (uint64_t line = first; line <= last; ++line) {
         ++accesses[f.tag];
+        // The line just accessed again: a hit at distance 0 everywhere, no state changes.
+        if (line == last_line) {
+          ++repeats[f.tag];
+          continue;
+        }
+        last_line = line;
         if (full) ++full_hist[full->access(static_cast<uint32_t>(line))][f.tag];
-        for (size_t e = 0; e < set_stacks.size(); ++e)
-          ++set_hist[e][set_stacks[e].access(line)][f.tag];
+        // Set counts in increasing order: the most recent line of its set at s sets is also
+        // the most recent of its (smaller) set at every larger set count, where the access
+        // then changes nothing (Hill & Smith's set refinement), so the walk stops there.
+        for (size_t e = 0; e < set_stacks.size(); ++e) {
+          const uint32_t d = set_stacks[e].access(line);
+          if (d == 0) {
+            ++mru_from[e][f.tag];
+            break;
+          }
+          ++set_hist[e][d][f.tag];
+        }
       }
     }
   }
@@ -57,6 +76,8 @@ CacheSweep::CacheSweep(const std::vector<CacheParams>& configs, uint64_t image_b
     if (c.policy != "lru" || group_of_line.count(c.line_bytes)) continue;
     auto g = std::make_unique<LineGroup>();
     g->shift = static_cast<uint32_t>(std::countr_zero(c.line_bytes));
+    if ((image_bytes >> g->shift) >= UINT32_MAX - 1)
+      throw std::logic_error("CacheSweep: line numbers must fit 32 bits");
     if (auto it = full.find(c.line_bytes); it != full.end()) {
       g->full_capacities.assign(it->second.begin(), it->second.end());
       g->full = std::make_unique<FullyAssocLruStack>(g->full_capacities,
@@ -66,6 +87,7 @@ CacheSweep::CacheSweep(const std::vector<CacheParams>& configs, uint64_t image_b
     for (const auto& [sets, ways] : depth[c.line_bytes]) {
       g->set_stacks.emplace_back(static_cast<uint32_t>(sets), ways);
       g->set_hist.emplace_back(ways + 1, PerTag{});
+      g->mru_from.emplace_back();
     }
     group_of_line[c.line_bytes] = static_cast<int>(groups_.size());
     groups_.push_back(std::move(g));
@@ -119,10 +141,13 @@ CacheSweep::PerTag CacheSweep::misses(size_t i) const {
   const LineGroup& g = *groups_[w.line_group];
   // A one-set cache of capacity index k hits in regions 0..k; a set stack of `ways` ways hits at
   // distances below `ways`.
-  const PerTag hits = w.engine < 0 ? LineGroup::hits_below(g.full_hist, w.level + 1)
-                                   : LineGroup::hits_below(g.set_hist[w.engine], w.level);
+  PerTag hits = w.engine < 0 ? LineGroup::hits_below(g.full_hist, w.level + 1)
+                             : LineGroup::hits_below(g.set_hist[w.engine], w.level);
+  if (w.engine >= 0)
+    for (int e = 0; e <= w.engine; ++e)
+      for (int t = 0; t < kTags; ++t) hits[t] += g.mru_from[e][t];
   PerTag m{};
-  for (int t = 0; t < kTags; ++t) m[t] = g.accesses[t] - hits[t];
+  for (int t = 0; t < kTags; ++t) m[t] = g.accesses[t] - g.repeats[t] - hits[t];
   return m;
 }
 

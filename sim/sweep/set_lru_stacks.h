@@ -16,12 +16,13 @@ class SetLruStacks {
   // Accesses `line`; returns its stack distance in its set before the access, or depth() when it
   // was deeper (or never seen). The line becomes the most recent of its set.
   uint32_t access(uint64_t line) {
-    uint64_t* s = &stacks_[(line & set_mask_) * depth_];
+    const auto tag = static_cast<uint32_t>(line);
+    uint32_t* s = &stacks_[(line & set_mask_) * depth_];
     uint32_t d = 0;
-    while (d < depth_ && s[d] != line) ++d;
+    while (d < depth_ && s[d] != tag) ++d;
     const uint32_t moved = d < depth_ ? d : depth_ - 1;
     for (uint32_t i = moved; i > 0; --i) s[i] = s[i - 1];
-    s[0] = line;
+    s[0] = tag;
     return d;
   }
 
@@ -29,10 +30,10 @@ class SetLruStacks {
   uint32_t depth() const { return depth_; }
 
  private:
-  static constexpr uint64_t kEmpty = ~uint64_t{0};  // never a line number
+  static constexpr uint32_t kEmpty = ~uint32_t{0};  // never a line number (lines < 2^32 - 1)
   uint64_t set_mask_;
   uint32_t depth_;
-  std::vector<uint64_t> stacks_;  // [set * depth + distance], most recent first
+  std::vector<uint32_t> stacks_;  // [set * depth + distance]: line numbers, most recent first
 };
 
 }  // namespace rtusim
