@@ -12,6 +12,7 @@ file system); they do not need DIR.
 Start a cluster by hand:
     dask scheduler --port 8786                        # on one machine
     dask worker tcp://SCHEDULER:8786 --nthreads 1     # on each worker machine, once per core
+(each task runs one job on one core: --threads 1)
 then: rtusim sweep SPEC --out DIR --scheduler tcp://SCHEDULER:8786
 """
 import argparse
@@ -25,7 +26,7 @@ from pathlib import Path
 def run_job(command, job):
     """On a worker: one job of the sweep into a private directory; returns (job, rows text)."""
     with tempfile.TemporaryDirectory(prefix="rtusim-sweep-") as tmp:
-        argv = list(command) + ["--out", tmp, "--group", str(job), "--no-plots"]
+        argv = list(command) + ["--out", tmp, "--group", str(job), "--threads", "1", "--no-plots"]
         done = subprocess.run(argv, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         if done.returncode != 0:
             lines = [l for l in done.stdout.splitlines() if l.strip()]

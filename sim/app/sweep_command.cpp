@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <thread>
 
 #include <CLI/CLI.hpp>
 
@@ -55,7 +56,8 @@ int sweep_command() {
                      std::to_string(plan.jobs.size()) + " jobs");
   const SweepDir dir(o.out, plan);
   if (o.group >= 0) {
-    dir.write_job(o.group, run_sweep_job(plan, o.group, dir.base_config()));
+    const unsigned threads = o.run.threads ? o.run.threads : std::thread::hardware_concurrency();
+    dir.write_job(o.group, run_sweep_job(plan, o.group, dir.base_config(), std::max(1u, threads)));
     return 0;
   }
   size_t skipped = 0;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <future>
 #include <map>
 #include <set>
 #include <stdexcept>
@@ -117,8 +118,11 @@ CacheSweep::CacheSweep(const std::vector<CacheParams>& configs, uint64_t image_b
 CacheSweep::~CacheSweep() = default;
 
 void CacheSweep::feed(std::span<const SweepFetch> fetches) {
-  for (auto& g : groups_) g->feed(fetches);
-  for (SideCache& s : side_) {
+  // Task t < groups: a line-size group; then one per side-by-side cache.
+  const size_t tasks = groups_.size() + side_.size();
+  const auto run = [&](size_t t) {
+    if (t < groups_.size()) return groups_[t]->feed(fetches);
+    SideCache& s = side_[t - groups_.size()];
     s.cache.visit([&](auto& cache) {
       for (const SweepFetch& f : fetches) {
         if (f.bytes == 0) continue;
@@ -127,7 +131,20 @@ void CacheSweep::feed(std::span<const SweepFetch> fetches) {
         s.accesses[f.tag] += cache.accesses() - before;
       }
     });
+  };
+  const size_t workers = std::min<size_t>(threads_, tasks);
+  if (workers <= 1) {
+    for (size_t t = 0; t < tasks; ++t) run(t);
+    return;
   }
+  // Worker w takes tasks w, w + workers, ...; worker 0 is this thread.
+  std::vector<std::future<void>> others;
+  for (size_t w = 1; w < workers; ++w)
+    others.push_back(std::async(std::launch::async, [&, w] {
+      for (size_t t = w; t < tasks; t += workers) run(t);
+    }));
+  for (size_t t = 0; t < tasks; t += workers) run(t);
+  for (auto& f : others) f.get();
 }
 
 CacheSweep::PerTag CacheSweep::accesses(size_t i) const {

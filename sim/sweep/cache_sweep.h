@@ -33,8 +33,12 @@ class CacheSweep {
   CacheSweep(const std::vector<CacheParams>& configs, uint64_t image_bytes);
   ~CacheSweep();
 
-  // Feeds a chunk of fetches, in order, to every configuration.
+  // Feeds a chunk of fetches, in order, to every configuration. The line-size groups and the
+  // side-by-side caches are independent: with threads() > 1 they share out the chunk's work
+  // (the counts are the same for any thread count).
   void feed(std::span<const SweepFetch> fetches);
+  void set_threads(unsigned n) { threads_ = n ? n : 1; }
+  unsigned threads() const { return threads_; }
 
   // Of configuration `i` (constructor order): line accesses and misses per tag.
   PerTag accesses(size_t i) const;
@@ -57,6 +61,7 @@ class CacheSweep {
   std::vector<std::unique_ptr<LineGroup>> groups_;
   std::vector<SideCache> side_;
   std::vector<Where> where_;
+  unsigned threads_ = 1;
 };
 
 }  // namespace rtusim

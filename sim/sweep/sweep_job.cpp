@@ -106,7 +106,7 @@ Row one_layout_stats(const SimulationResult& r, size_t i) {
 }
 
 void run_functional(const SweepPlan& plan, const SweepJob& job, const std::string& base_path,
-                    nlohmann::json& rows) {
+                    unsigned threads, nlohmann::json& rows) {
   // Prepare once for every layout of the job, with the first point's other keys.
   const SweepPoint& anchor = plan.points[job.points.front()];
   std::vector<std::string> kinds;
@@ -139,6 +139,8 @@ void run_functional(const SweepPlan& plan, const SweepJob& job, const std::strin
     CacheSweep nodes(node_cfgs.list, image.bytes.size());
     std::optional<CacheSweep> data;
     if (!data_cfgs.list.empty()) data.emplace(data_cfgs.list, image.bytes.size());
+    nodes.set_threads(threads);
+    if (data) data->set_threads(threads);
     SweepBackend backend(image, nodes, data ? &*data : nullptr);
     WhittedTracer tracer(p.scene, p.config.tracer, backend);
     tracer.render(PinholeCamera(p.camera, w, h), w, h);
@@ -171,7 +173,8 @@ bool is_timing_key(const std::string& key) {
   return ends("seconds") || key == "trace.rays_per_second";
 }
 
-nlohmann::json run_sweep_job(const SweepPlan& plan, size_t job, const std::string& base_path) {
+nlohmann::json run_sweep_job(const SweepPlan& plan, size_t job, const std::string& base_path,
+                             unsigned threads) {
   const auto t0 = std::chrono::steady_clock::now();
   const SweepJob& j = plan.jobs.at(job);
   nlohmann::json rows = nlohmann::json::object();
@@ -184,7 +187,7 @@ nlohmann::json run_sweep_job(const SweepPlan& plan, size_t job, const std::strin
     Row row(r.stats.values().begin(), r.stats.values().end());
     rows[std::to_string(j.points.front())] = to_json_row(row);
   } else {
-    run_functional(plan, j, base_path, rows);
+    run_functional(plan, j, base_path, threads, rows);
   }
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -16,8 +16,10 @@
 namespace rtusim {
 
 // {"job": K, "points": N, "seconds": S, "rows": {"<point index>": {stats key: value}}}.
-// `base_path` is the base config file (the sweep's base.toml).
-nlohmann::json run_sweep_job(const SweepPlan& plan, size_t job, const std::string& base_path);
+// `base_path` is the base config file (the sweep's base.toml); `threads` share out the cache
+// evaluation of a functional job (CacheSweep::set_threads).
+nlohmann::json run_sweep_job(const SweepPlan& plan, size_t job, const std::string& base_path,
+                             unsigned threads = 1);
 
 // Whether a stats key is a timing (left out of the rows): ends in "seconds", or a rate per
 // second of wall time.

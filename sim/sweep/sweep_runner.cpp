@@ -117,8 +117,10 @@ int run_local(const SweepPlan& plan, const SweepDir& dir, const SweepRunOptions&
   while (next < pending.size() || !running.empty()) {
     while (!failed && next < pending.size() && running.size() < threads) {
       const size_t job = pending[next++];
+      // The cores left over when there are fewer jobs than cores go to the jobs' caches.
+      const size_t per_job = std::max<size_t>(1, threads / std::min<size_t>(threads, pending.size()));
       std::vector<std::string> argv = job_command(o, dir);
-      argv.insert(argv.end(), {"--group", std::to_string(job)});
+      argv.insert(argv.end(), {"--group", std::to_string(job), "--threads", std::to_string(per_job)});
       running[spawn(argv, dir.log_file(job).string())] = job;
     }
     if (failed && running.empty()) break;
