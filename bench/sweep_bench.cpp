@@ -41,6 +41,7 @@ struct Measured {
 
 // Runs argv to completion; its wall time and the largest resident set of it and its children.
 Measured run_child(const std::vector<std::string>& argv) {
+  std::fflush(stdout);  // or the child's freopen writes the buffer again
   const double t0 = now_s();
   const pid_t pid = fork();
   if (pid == 0) {

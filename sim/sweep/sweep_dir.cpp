@@ -34,6 +34,16 @@ std::string csv_field(const std::string& s) {
   return q + "\"";
 }
 
+// One CSV line of fields.
+std::string csv_line(const std::vector<std::string>& fields) {
+  std::string line;
+  for (size_t i = 0; i < fields.size(); ++i) {
+    if (i) line += ',';
+    line += csv_field(fields[i]);
+  }
+  return line + "\n";
+}
+
 std::string json_cell(const nlohmann::json& v) {
   if (v.is_null()) return "";
   if (v.is_string()) return v.get<std::string>();
@@ -69,11 +79,13 @@ SweepDir::SweepDir(fs::path dir, const SweepPlan& plan) : dir_(std::move(dir)) {
   } else if (fs::exists(dir_) && !fs::is_empty(dir_)) {
     throw InputError(dir_.string() + ": exists and holds no sweep; use an empty or new --out");
   }
+  // The identity first: a directory killed while being set up is still recognised.
+  fs::create_directories(dir_);
+  if (!fs::exists(id_file)) write_file_atomically(id_file, id.dump(2) + "\n");
   fs::create_directories(dir_ / "jobs");
   fs::create_directories(dir_ / "logs");
   if (!fs::exists(dir_ / "sweep.toml")) write_file_atomically(dir_ / "sweep.toml", plan.spec_text);
   if (!fs::exists(dir_ / "base.toml")) write_file_atomically(dir_ / "base.toml", plan.base_toml);
-  if (!fs::exists(id_file)) write_file_atomically(id_file, id.dump(2) + "\n");
 }
 
 fs::path SweepDir::job_file(size_t job) const {
@@ -102,27 +114,23 @@ void SweepDir::write_results(const SweepPlan& plan) const {
       layouts.insert(plan.points.at(std::stoul(index)).layout);
     }
     std::string layout_list;
-    for (const auto& l : layouts) layout_list += (layout_list.empty() ? "" : " ") + l;
+    for (const auto& l : layouts) {
+      if (!layout_list.empty()) layout_list += ' ';
+      layout_list += l;
+    }
     timings << j << "," << job.at("points").get<size_t>() << "," << layout_list << ","
             << (plan.jobs[j].timed ? 1 : 0) << "," << job.at("seconds").get<double>() << "\n";
   }
   for (const auto& c : plan.columns) stats_keys.erase(c);  // the swept column stands for it
   std::ostringstream csv;
-  std::string header;
-  for (const auto& c : plan.columns) header += (header.empty() ? "" : ",") + csv_field(c);
-  for (const auto& k : stats_keys) header += (header.empty() ? "" : ",") + csv_field(k);
-  csv << header << "\n";
+  std::vector<std::string> header = plan.columns;
+  header.insert(header.end(), stats_keys.begin(), stats_keys.end());
+  csv << csv_line(header);
   for (size_t i = 0; i < rows.size(); ++i) {
     if (rows[i].is_null()) throw std::runtime_error("sweep: no row for point " + std::to_string(i));
-    std::string line;
-    bool first = true;
-    const auto add = [&](const std::string& f) {
-      line += (first ? "" : ",") + csv_field(f);
-      first = false;
-    };
-    for (const auto& cell : plan.points[i].cells) add(cell);
-    for (const auto& k : stats_keys) add(rows[i].contains(k) ? json_cell(rows[i][k]) : "");
-    csv << line << "\n";
+    std::vector<std::string> fields = plan.points[i].cells;
+    for (const auto& k : stats_keys) fields.push_back(rows[i].contains(k) ? json_cell(rows[i][k]) : "");
+    csv << csv_line(fields);
   }
   write_file_atomically(dir_ / "results.csv", csv.str());
   write_file_atomically(dir_ / "timings.csv", timings.str());

@@ -279,9 +279,17 @@ SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string
       throw InputError(spec_path + ": " + what + ": " + inner_message(e.what(), base_file.path()));
     }
   };
-  const RunConfig base_config = load(sets, "base config");
-  std::vector<std::string> base_sets = sets;
-  resolve_full(base_sets, base_config.effective);
+  // The base config; "full" in the --set resolved against the file's own size and line.
+  RunConfig base_config;
+  {
+    toml::table sizes;
+    for (const std::string prefix : {"l1", "dcache"})
+      sizes.insert(prefix, toml::table{{"size", base[prefix]["size"].value_or<int64_t>(8192)},
+                                       {"line", base[prefix]["line"].value_or<int64_t>(64)}});
+    std::vector<std::string> base_sets = sets;
+    resolve_full(base_sets, sizes);
+    base_config = load(base_sets, "base config");
+  }
 
   // Several layouts in the base config and none swept: each is a point of its own.
   const bool layout_swept = std::any_of(dims.begin(), dims.end(), [](const Dim& d) {
@@ -314,7 +322,7 @@ SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string
   // Every value alone, so a bad one is named before any combination of it.
   for (const Dim& d : dims)
     for (size_t e = 0; e < d.values.size(); ++e) {
-      std::vector<std::string> o = base_sets;
+      std::vector<std::string> o = sets;
       for (size_t k = 0; k < d.keys.size(); ++k)
         if (!d.values[e][k].empty()) o.push_back(d.keys[k] + "=" + d.values[e][k]);
       resolve_full(o, base_config.effective);
@@ -344,9 +352,12 @@ SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string
         pt.overrides.push_back(dims[i].keys[k] + "=" + v);
         if (!is_cache_key(dims[i].keys[k])) job_key += pt.overrides.back() + "\n";
       }
-    resolve_full(pt.overrides, base_config.effective);
+    // "full" of the point or of the --set, with the point's size and line.
     std::vector<std::string> all = sets;
     all.insert(all.end(), pt.overrides.begin(), pt.overrides.end());
+    const size_t resolved_from = all.size();
+    resolve_full(all, base_config.effective);
+    pt.overrides.insert(pt.overrides.end(), all.begin() + resolved_from, all.end());
     const RunConfig c = load(all, "[sweep] point " + std::to_string(index) + " (" +
                                       describe(plan.columns, pt.cells) + ")");
     if (c.layouts.size() != 1)
