@@ -3,6 +3,7 @@
 namespace rtusim {
 
 SetLruStacks::SetLruStacks(uint32_t sets, uint32_t depth)
-    : set_mask_(sets - 1), depth_(depth), stacks_(uint64_t{sets} * depth, kEmpty) {}
+    : set_mask_(sets - 1), depth_(depth), stride_(depth <= kVector ? kVector : depth),
+      stacks_(uint64_t{sets} * stride_, kEmpty) {}
 
 }  // namespace rtusim

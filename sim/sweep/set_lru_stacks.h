@@ -7,6 +7,10 @@
 #include <cstdint>
 #include <vector>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace rtusim {
 
 class SetLruStacks {
@@ -17,7 +21,10 @@ class SetLruStacks {
   // was deeper (or never seen). The line becomes the most recent of its set.
   uint32_t access(uint64_t line) {
     const auto tag = static_cast<uint32_t>(line);
-    uint32_t* s = &stacks_[(line & set_mask_) * depth_];
+    uint32_t* s = &stacks_[(line & set_mask_) * stride_];
+#if defined(__SSE2__)
+    if (stride_ == kVector) return access8(s, tag);
+#endif
     uint32_t d = 0;
     while (d < depth_ && s[d] != tag) ++d;
     const uint32_t moved = d < depth_ ? d : depth_ - 1;
@@ -31,9 +38,39 @@ class SetLruStacks {
 
  private:
   static constexpr uint32_t kEmpty = ~uint32_t{0};  // never a line number (lines < 2^32 - 1)
+  static constexpr uint32_t kVector = 8;            // stacks of depth <= 8 are padded to 8
+
+#if defined(__SSE2__)
+  // The same on an 8-entry stack in two SSE2 registers: one compare finds the line, and one
+  // shifted copy blended under a lane mask moves the lines above it down (no branch but the
+  // hit test). The padding lanes (depth_ and up) are never written, so they stay kEmpty.
+  uint32_t access8(uint32_t* s, uint32_t tag) {
+    const __m128i key = _mm_set1_epi32(static_cast<int>(tag));
+    const __m128i lo = _mm_loadu_si128(reinterpret_cast<const __m128i*>(s));
+    const __m128i hi = _mm_loadu_si128(reinterpret_cast<const __m128i*>(s + 4));
+    const int found = _mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(lo, key))) |
+                      (_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(hi, key))) << 4);
+    uint32_t d = found ? static_cast<uint32_t>(__builtin_ctz(static_cast<unsigned>(found))) : kVector;
+    if (d > depth_) d = depth_;
+    const uint32_t moved = d < depth_ ? d : depth_ - 1;
+    // Lanes 0..moved take their upper neighbour's old value (lane 0 the line); the rest stay.
+    const __m128i lo_shift = _mm_or_si128(_mm_slli_si128(lo, 4), _mm_cvtsi32_si128(static_cast<int>(tag)));
+    const __m128i hi_shift = _mm_or_si128(_mm_slli_si128(hi, 4), _mm_srli_si128(lo, 12));
+    const __m128i limit = _mm_set1_epi32(static_cast<int>(moved + 1));
+    const __m128i take_lo = _mm_cmpgt_epi32(limit, _mm_setr_epi32(0, 1, 2, 3));  // lane <= moved
+    const __m128i take_hi = _mm_cmpgt_epi32(limit, _mm_setr_epi32(4, 5, 6, 7));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(s),
+                     _mm_or_si128(_mm_and_si128(take_lo, lo_shift), _mm_andnot_si128(take_lo, lo)));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(s + 4),
+                     _mm_or_si128(_mm_and_si128(take_hi, hi_shift), _mm_andnot_si128(take_hi, hi)));
+    return d;
+  }
+#endif
+
   uint64_t set_mask_;
   uint32_t depth_;
-  std::vector<uint32_t> stacks_;  // [set * depth + distance]: line numbers, most recent first
+  uint32_t stride_;               // entries per set: depth_, or kVector when depth_ <= kVector
+  std::vector<uint32_t> stacks_;  // [set * stride + distance]: line numbers, most recent first
 };
 
 }  // namespace rtusim

@@ -36,7 +36,7 @@ TEST(CacheSweep, EqualsOneCachePerConfiguration) {
   for (const char* policy : {"lru", "fifo", "tree-plru", "random"})
     for (const uint32_t line : {16u, 32u, 64u})
       for (const uint64_t size : {256u, 1024u, 4096u})
-        for (const uint32_t assoc : {1u, 2u, 4u, 8u, 0u}) {  // 0: full
+        for (const uint32_t assoc : {1u, 2u, 4u, 8u, 16u, 0u}) {  // 0: full
           CacheParams c;
           c.policy = policy;
           c.line_bytes = line;
