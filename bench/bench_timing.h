@@ -1,13 +1,25 @@
-// Timing helpers shared by the benchmarks: wall-clock seconds and medians of repeated runs.
+// Timing helpers shared by the benchmarks: wall-clock and thread CPU seconds, medians of
+// repeated runs, and the one-line result format that bench/run_all.py collects.
 #pragma once
+#include <time.h>
+
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <vector>
 
 namespace rtusim::bench_timing {
 
 inline double now_s() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+// CPU seconds of the calling thread: what one core spends on the work, unaffected by other
+// processes taking turns on a shared machine (wall time is, by up to several times).
+inline double cpu_s() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
 }
 
 inline double median(std::vector<double> v) {
@@ -25,6 +37,16 @@ double median_seconds(int reps, F&& run) {
     s.push_back(now_s() - t0);
   }
   return median(s);
+}
+
+// A result line for bench/run_all.py: `RATIO<TAB>bench<TAB>case<TAB>subject<TAB>value<TAB>
+// reference<TAB>reference value<TAB>unit<TAB>ratio`, where ratio = value / reference value and
+// both values were measured in the same run (medians).
+inline void print_ratio(const char* bench, const char* case_name, const char* subject,
+                        double value, const char* reference, double reference_value,
+                        const char* unit) {
+  std::printf("RATIO\t%s\t%s\t%s\t%.4g\t%s\t%.4g\t%s\t%.3f\n", bench, case_name, subject,
+              value, reference, reference_value, unit, value / reference_value);
 }
 
 }  // namespace rtusim::bench_timing

@@ -85,6 +85,8 @@ int main() {
     std::printf("  %-10s %8.3f %14.1f %14.1f %14.1f %8.1f\n", policy.c_str(),
                 100.0 * static_cast<double>(loop_misses) / n, n / loop_s / 1e6,
                 n / access_s / 1e6, n / virtual_s / 1e6, loop_s / raw_s);
+    rtusim::bench_timing::print_ratio("cache_replay_bench", ("8K/4-way/64B " + policy).c_str(),
+                                      "replay loop", loop_s, "checksum loop", raw_s, "s");
   }
   std::printf("  x raw = loop replay time / checksum time; miss counts %s across dispatch forms\n",
               consistent ? "agree" : "DISAGREE");

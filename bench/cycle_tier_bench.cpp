@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "bench_timing.h"
-#include "config/run_config.h"
+#include "app/run_config.h"
 #include "kdtree/sah_builder.h"
 #include "layout/layout.h"
 #include "layout/layout_dispatch.h"
@@ -30,8 +30,8 @@ using namespace rtusim;
 
 namespace {
 
+using rtusim::bench_timing::cpu_s;
 using rtusim::bench_timing::median;
-using rtusim::bench_timing::now_s;
 
 
 struct CycleRun {
@@ -51,9 +51,9 @@ CycleRun run_cycle_tier(const MemoryImage& image, const std::vector<RayRecord>& 
     p.finish();
     CycleBackend backend(image, p);
     std::vector<Hit> hits(rays.size());
-    const double t0 = now_s();
+    const double t0 = cpu_s();
     backend.trace(rays, hits);
-    r.seconds = now_s() - t0;
+    r.seconds = cpu_s() - t0;
     Stats s;
     backend.write_stats(s);
     r.cycles = s.at("sim.cycles").get<double>();
@@ -85,13 +85,13 @@ void bench(const std::string& name, const Scene& scene, std::vector<RayRecord> r
   CycleRun last;
   double checksum = 0;
   for (int r = 0; r < runs; ++r) {
-    const double t0 = now_s();
+    const double t0 = cpu_s();
     with_layout_decoder(image, [&]<class Decoder>() {
       NullFetchSink sink;
       for (const RayRecord& rr : rays)
         checksum += traverse<Decoder>(image, rr.ray, rr.any_hit(), sink).triangle;
     });
-    plain.push_back(now_s() - t0);
+    plain.push_back(cpu_s() - t0);
     last = run_cycle_tier(image, rays);
     cyc.push_back(last.seconds);
   }
@@ -101,6 +101,8 @@ void bench(const std::string& name, const Scene& scene, std::vector<RayRecord> r
               last.node_fetches / cyc_s / 1e6, last.cycles, last.l1_miss_rate, last.gbps,
               last.util);
   std::fprintf(stderr, "checksum %g\n", checksum);
+  bench_timing::print_ratio("cycle_tier_bench", name.c_str(), "cycle tier", cyc_s,
+                            "plain traversal", plain_s, "s");
 }
 
 std::vector<RayRecord> primary_rays(const Scene& scene, int w, int h) {
@@ -150,8 +152,8 @@ int main(int argc, char** argv) {
   } else {
     std::printf("(no %s: sponza skipped)\n", sponza.c_str());
   }
-  std::printf("(medians of %d runs; slowdown = cycle tier / plain traversal (NullFetchSink) of the "
-              "same rays; Mnode/s = node fetches simulated per second; defaults: 32 rays in "
+  std::printf("(medians of %d runs, thread CPU time; slowdown = cycle tier / plain traversal "
+              "(NullFetchSink) of the same rays; Mnode/s = node fetches simulated per second; defaults: 32 rays in "
               "flight, 8 KB 4-way L1, 8 MSHRs, DDR4-2400, lists/triangles straight to DRAM)\n",
               runs);
   return 0;

@@ -31,7 +31,12 @@ struct RegressOptions {
   bool update = false;  // --update: rewrite every expected.json (scripts/update_references.sh)
 };
 
+struct KeysOptions {
+  std::string format = "text";  // --format text|json|markdown (the README's table)
+};
+
 int run_command(const RunOptions& opts);
+int keys_command(const KeysOptions& opts);
 int hits_command(const RunOptions& opts);
 int trace_command(const TraceOptions& opts);
 int replay_command(const ReplayOptions& opts);

@@ -39,7 +39,7 @@ Prepared prepare_run(const std::string& config_path, const std::vector<std::stri
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   p.camera = select_camera(p.config, p.scene);
   p.tree = build_sah_kd_tree(p.scene, p.config.kdtree);
-  for (const auto& kind : p.config.layouts)
+  for (const auto& kind : p.config.layout.kinds)
     p.images.push_back(make_layout(kind)->build_image(p.tree, p.scene));
   return p;
 }

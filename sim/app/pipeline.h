@@ -3,7 +3,7 @@
 #include <string>
 #include <vector>
 
-#include "config/run_config.h"
+#include "app/run_config.h"
 #include "kdtree/kd_tree.h"
 #include "layout/memory_image.h"
 #include "scene/scene.h"

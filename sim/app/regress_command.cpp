@@ -15,7 +15,7 @@
 
 #include "app/commands.h"
 #include "app/simulation.h"
-#include "trace/node_stream_backend.h"
+#include "app/node_stream.h"
 #include "trace/trace_format.h"
 #include "util/error.h"
 #include "util/output_files.h"

@@ -19,7 +19,7 @@ void print_summary(const RunOptions& opts, const std::string& out_dir, const Pre
   const FrameResult& f = r.frame;
   std::printf("rtusim run %s -> %s\n", opts.config.c_str(), out_dir.c_str());
   std::printf("  scene    %s: %u triangles, %dx%d, tier %s\n", p.scene.source.c_str(),
-              p.scene.triangle_count(), f.width, f.height, p.config.sim.tier_name.c_str());
+              p.scene.triangle_count(), f.width, f.height, p.config.sim.tier.c_str());
   std::printf("  kd-tree  %llu nodes, %llu leaves, depth %u, SAH %.1f, built in %.3f s\n",
               (unsigned long long)t.nodes, (unsigned long long)t.leaves, t.max_depth, t.sah_cost,
               t.build_seconds);
@@ -27,11 +27,11 @@ void print_summary(const RunOptions& opts, const std::string& out_dir, const Pre
               (unsigned long long)f.rays_total(), (unsigned long long)f.rays_by_kind[0],
               (unsigned long long)f.rays_by_kind[1], (unsigned long long)f.rays_by_kind[2],
               (unsigned long long)f.rays_by_kind[3]);
-  const auto& l1 = p.config.caches.node_l1;
+  const CacheParams& l1 = p.config.l1.params.cache;
   std::printf("  node L1  %llu B, %u-way, %u B lines, %s; GB/s at %.0f frames/s\n",
               (unsigned long long)l1.size_bytes, l1.assoc, l1.line_bytes, l1.policy.c_str(),
-              p.config.sim.frames_per_second);
-  const bool timed = p.config.sim.tier != Tier::kFunctional;
+              p.config.report.frames_per_second);
+  const bool timed = r.stats.has("sim.cycles");  // a tier that keeps time
   std::printf("  %-8s %12s %12s %10s %11s %9s %9s", "layout", "node memory", "L1 misses",
               "miss rate", "node B/ray", "node MB", "node GB/s");
   if (timed) std::printf(" %12s %9s %8s", "cycles", "DRAM GB/s", "Mrays/s");
@@ -53,7 +53,7 @@ void print_summary(const RunOptions& opts, const std::string& out_dir, const Pre
   }
   const double secs = r.layouts.front().stats.at("trace.seconds").get<double>();
   std::printf("  simulated in %.3f s per layout (%.2f Mrays/s of wall time, %s tier, 1 thread)%s\n",
-              secs, f.rays_total() / std::max(secs, 1e-9) / 1e6, p.config.sim.tier_name.c_str(),
+              secs, f.rays_total() / std::max(secs, 1e-9) / 1e6, p.config.sim.tier.c_str(),
               timed ? "; node GB/s at the frame rate, DRAM GB/s and Mrays/s at the unit's clock" : "");
 }
 

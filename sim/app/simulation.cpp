@@ -1,4 +1,4 @@
-// Runs the frame through the functional tier for each layout and gathers the stats.
+// Runs the frame through the configured tier for each layout and gathers the stats.
 #include "app/simulation.h"
 
 #include <chrono>
@@ -6,9 +6,8 @@
 #include <filesystem>
 #include <stdexcept>
 
-#include "model/cycle_backend.h"
-#include "tier/functional_backend.h"
 #include "tier/progress_backend.h"
+#include "tier/tier.h"
 
 namespace rtusim {
 namespace {
@@ -34,8 +33,8 @@ void add_run_stats(const Prepared& p, const FrameResult& frame, Stats& s) {
   s.set("rays.shadow", frame.rays_by_kind[int(RayKind::kShadow)]);
   s.set("rays.reflection", frame.rays_by_kind[int(RayKind::kReflection)]);
   s.set("rays.refraction", frame.rays_by_kind[int(RayKind::kRefraction)]);
-  s.set("sim.tier", p.config.sim.tier_name);
-  s.set("report.frames_per_second", p.config.sim.frames_per_second);
+  s.set("sim.tier", p.config.sim.tier);
+  s.set("report.frames_per_second", p.config.report.frames_per_second);
 }
 
 // Keys of a layout's memory image.
@@ -80,42 +79,33 @@ FrameResult render_timed(const Prepared& p, TraceBackend& backend, const std::st
 SimulationResult simulate(const Prepared& p) {
   SimulationResult result;
   const int w = p.config.image.width, h = p.config.image.height;
+  const FetchCacheParams caches = p.config.fetch_caches();
+  const CycleParams cycle = p.config.cycle();
   for (const MemoryImage& image : p.images) {
     // The same rays for every layout: hits do not depend on the layout, so neither do rays.
     LayoutRun run;
     run.kind = image.layout;
     add_image_stats(image, run.stats);
-    double seconds = 0.0;
-    FrameResult frame;
-    if (p.config.sim.tier == Tier::kFunctional) {
-      FunctionalBackend backend(image, p.config.caches, static_cast<uint32_t>(w * h));
-      frame = render_timed(p, backend, image.layout, seconds);
-      const FetchCache& c = backend.caches();
-      run.stats.set("traversal.node_fetches", c.stream(Stream::kNode).fetches);
-      run.stats.set("traversal.list_fetches", c.stream(Stream::kList).fetches);
-      run.stats.set("traversal.triangle_fetches", c.stream(Stream::kTriangle).fetches);
-      c.write_stats(run.stats);
-      run.pixel_dram_bytes = backend.pixel_dram_bytes();
-    } else {
-      // The cycle tier, and the rtl tier (the config set node_l1_model = "rtl"). One VCD per
-      // layout when there are several.
-      CycleParams cycle = p.config.cycle;
-      if (!cycle.vcd_path.empty() && p.images.size() > 1) {
-        const std::filesystem::path vcd(cycle.vcd_path);
-        cycle.vcd_path = (vcd.parent_path() / (vcd.stem().string() + "_" + image.layout +
-                                                vcd.extension().string())).string();
-      }
-      CycleBackend backend(image, cycle);
-      frame = render_timed(p, backend, image.layout, seconds);
-      backend.write_stats(run.stats);
-      backend.finish();
+    // The tier's params for this layout: one VCD per layout when there are several.
+    TierConfig tier_config{caches, cycle, static_cast<uint32_t>(w * h)};
+    if (!cycle.vcd_path.empty() && p.images.size() > 1) {
+      const std::filesystem::path vcd(cycle.vcd_path);
+      tier_config.cycle.vcd_path = (vcd.parent_path() / (vcd.stem().string() + "_" +
+                                                         image.layout + vcd.extension().string()))
+                                       .string();
     }
+    const std::unique_ptr<TierRun> tier = make_tier(p.config.sim.tier, image, tier_config);
+    double seconds = 0.0;
+    FrameResult frame = render_timed(p, tier->backend(), image.layout, seconds);
+    tier->write_stats(run.stats);
+    run.pixel_dram_bytes = tier->pixel_dram_bytes();
+    tier->finish();
     if (!result.layouts.empty() &&
         (frame.rays_by_kind != result.frame.rays_by_kind ||
          std::memcmp(frame.radiance.data(), result.frame.radiance.data(),
                      frame.radiance.size() * sizeof(glm::vec3)) != 0))
       throw std::logic_error("layout " + image.layout + " changed the frame: a layout bug");
-    add_report_stats(frame, p.config.sim.frames_per_second, seconds, run.stats);
+    add_report_stats(frame, p.config.report.frames_per_second, seconds, run.stats);
     if (result.layouts.empty()) result.frame = std::move(frame);
     result.layouts.push_back(std::move(run));
   }

@@ -1,5 +1,5 @@
 // `rtusim sweep SPEC [--set …] --out DIR [--threads N] [--scheduler tcp://HOST:PORT]`: every
-// point of a sweep spec (sim/sweep/sweep_plan.h), resumable, into DIR/results.csv; the plots
+// point of a sweep spec (sim/app/sweep_plan.h), resumable, into DIR/results.csv; the plots
 // by scripts/sweep_plot.py when Python with matplotlib is at hand. The hidden `--group K` runs
 // one job of the plan (what the local runner and the Dask workers start).
 #include <chrono>
@@ -10,8 +10,8 @@
 #include <CLI/CLI.hpp>
 
 #include "app/commands.h"
-#include "sweep/sweep_job.h"
-#include "sweep/sweep_runner.h"
+#include "app/sweep_job.h"
+#include "app/sweep_runner.h"
 #include "util/error.h"
 
 namespace rtusim {

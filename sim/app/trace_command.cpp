@@ -3,7 +3,7 @@
 
 #include "app/commands.h"
 #include "app/pipeline.h"
-#include "trace/node_stream_backend.h"
+#include "app/node_stream.h"
 #include "trace/trace_format.h"
 #include "util/error.h"
 #include "util/output_files.h"
@@ -16,11 +16,11 @@ int trace_command(const TraceOptions& opts) {
   {
     // The layout check before the scene is loaded and the tree built.
     const RunConfig c = load_run_config(opts.config, opts.overrides);
-    if (c.layouts.size() != 1) {
+    if (c.layout.kinds.size() != 1) {
       std::string kinds;
-      for (const auto& k : c.layouts) kinds += (kinds.empty() ? "" : ", ") + k;
+      for (const auto& k : c.layout.kinds) kinds += (kinds.empty() ? "" : ", ") + k;
       throw InputError(opts.config + ": layout.kind: trace takes one layout, got " +
-                       std::to_string(c.layouts.size()) + " (" + kinds +
+                       std::to_string(c.layout.kinds.size()) + " (" + kinds +
                        "); pick one with --set layout.kind=NAME");
     }
   }

@@ -1,34 +1,70 @@
+// Declarations of the cache geometry keys, and their reading.
 #include "cache/cache_config.h"
 
-#include "cache/replacement_policy.h"
+#include <cstdint>
+
+#include "cache/policy/policies.h"
+#include "config/param.h"
 #include "util/error.h"
 
 namespace rtusim {
+namespace {
 
-CacheParams read_cache_params(ConfigReader& r, const std::string& prefix,
-                              const CacheParams& defaults) {
-  CacheParams p;
-  p.size_bytes = static_cast<uint64_t>(r.get_int(prefix + ".size",
-                                                 static_cast<int64_t>(defaults.size_bytes), 4,
-                                                 static_cast<int64_t>(kMaxCacheBytes)));
-  p.assoc = static_cast<uint32_t>(r.get_int(prefix + ".assoc", defaults.assoc, 1, 1 << 24));
-  p.line_bytes = static_cast<uint32_t>(r.get_int(prefix + ".line", defaults.line_bytes, 4, 1 << 20));
-  p.policy = r.get_string(prefix + ".policy", defaults.policy, known_replacement_policies());
-  p.seed = static_cast<uint64_t>(
-      r.get_int(prefix + ".seed", static_cast<int64_t>(defaults.seed), 0, INT64_MAX));
-  try {
-    validate(p, prefix);
-  } catch (const InputError& e) {
-    throw InputError(r.origin() + ": " + e.what());
+// The geometry keys of one cache, `prefix`.*.
+struct CacheKeys {
+  std::string prefix;
+  IntParam size, assoc, line;
+  StringParam policy;
+  IntParam seed;
+
+  CacheKeys(const std::string& p, const std::string& what, const CacheParams& d = {})
+      : prefix(p),
+        size(p + ".size", static_cast<int64_t>(d.size_bytes), 4,
+             static_cast<int64_t>(kMaxCacheBytes), "bytes", what + " capacity"),
+        assoc(p + ".assoc", d.assoc, 1, 1 << 24, "ways",
+              what + " ways per set (size / line = fully associative)"),
+        line(p + ".line", d.line_bytes, 4, 1 << 20, "bytes", what + " line size, a power of two"),
+        policy(p + ".policy", d.policy, ReplacementPolicies::names(), "",
+               what + " replacement policy"),
+        seed(p + ".seed", static_cast<int64_t>(d.seed), 0, INT64_MAX, "",
+             what + " seed of the random policy") {}
+
+  CacheParams read(ConfigReader& r) const {
+    CacheParams c;
+    c.size_bytes = static_cast<uint64_t>(size.read(r));
+    c.assoc = static_cast<uint32_t>(assoc.read(r));
+    c.line_bytes = static_cast<uint32_t>(line.read(r));
+    c.policy = policy.read(r);
+    c.seed = static_cast<uint64_t>(seed.read(r));
+    try {
+      validate(c, prefix);
+    } catch (const KeyError& e) {
+      r.fail(e);
+    }
+    return c;
   }
-  return p;
+};
+
+const CacheKeys kL1Keys("l1", "node L1");
+const CacheKeys kDcacheKeys("dcache", "list/triangle cache");
+const BoolParam kDcacheEnable("dcache.enable", false,
+                              "list/triangle cache on (false: lists and triangles straight to DRAM)");
+
+}  // namespace
+
+CacheParams read_cache_params(ConfigReader& r, const std::string& prefix) {
+  if (prefix == kL1Keys.prefix) return kL1Keys.read(r);
+  if (prefix == kDcacheKeys.prefix) return kDcacheKeys.read(r);
+  throw std::logic_error("no cache keys under '" + prefix + "'");
 }
+
+bool read_dcache_enable(ConfigReader& r) { return kDcacheEnable.read(r); }
 
 FetchCacheParams read_fetch_cache_params(ConfigReader& r) {
   FetchCacheParams p;
-  p.node_l1 = read_cache_params(r, "l1");
-  const bool dcache_on = r.get_bool("dcache.enable", false);
-  const CacheParams dcache = read_cache_params(r, "dcache");
+  p.node_l1 = kL1Keys.read(r);
+  const bool dcache_on = kDcacheEnable.read(r);
+  const CacheParams dcache = kDcacheKeys.read(r);
   if (dcache_on) p.data_cache = dcache;
   return p;
 }

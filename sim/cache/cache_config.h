@@ -1,5 +1,5 @@
-// Config keys of the cache model, read through ConfigReader (typed, ranged, errors name the key).
-//   l1.size, l1.assoc, l1.line (bytes), l1.policy, l1.seed      the node L1
+// The config keys of the cache model, declared in cache_config.cpp (`rtusim keys` lists them):
+//   l1.size, l1.assoc, l1.line (bytes), l1.policy, l1.seed      the node L1's geometry
 //   dcache.enable (false = lists and triangles straight to DRAM), dcache.size/assoc/line/policy/seed
 #pragma once
 #include <string>
@@ -10,10 +10,12 @@
 
 namespace rtusim {
 
-// Reads `prefix`.size/.assoc/.line/.policy/.seed (absent keys take `defaults`) and validates
-// them together; a combination error names the keys and the config file.
-CacheParams read_cache_params(ConfigReader& r, const std::string& prefix,
-                              const CacheParams& defaults = {});
+// Reads `prefix`.size/.assoc/.line/.policy/.seed, `prefix` "l1" or "dcache", and validates them
+// together; an error names the key and the `--set` or file line it came from.
+CacheParams read_cache_params(ConfigReader& r, const std::string& prefix);
+
+// dcache.enable.
+bool read_dcache_enable(ConfigReader& r);
 
 // The node L1 (l1.*) and the data cache (dcache.*; on only when dcache.enable = true).
 FetchCacheParams read_fetch_cache_params(ConfigReader& r);

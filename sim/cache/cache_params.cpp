@@ -10,8 +10,9 @@ namespace rtusim {
 void validate(const CacheParams& p, const std::string& key_prefix) {
   const std::string size_key = key_prefix + ".size", assoc_key = key_prefix + ".assoc",
                     line_key = key_prefix + ".line", policy_key = key_prefix + ".policy";
-  auto fail = [](const std::string& key, const std::string& what) {
-    throw InputError(key + ": " + what);
+  // Every check names its key first, then the other keys it involves.
+  auto fail = [&](const std::string& key, const std::string& what) {
+    throw KeyError({key, size_key, assoc_key, line_key, policy_key}, what);
   };
   if (p.line_bytes < 4 || !std::has_single_bit(p.line_bytes))
     fail(line_key, std::to_string(p.line_bytes) + " must be a power of two >= 4");

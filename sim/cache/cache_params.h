@@ -19,7 +19,7 @@ struct CacheParams {
 // The largest cache accepted (the tag array is 8 bytes per line).
 inline constexpr uint64_t kMaxCacheBytes = uint64_t{1} << 30;
 
-// Throws InputError with a one-line message naming the offending key, `key_prefix` + ".size",
+// Throws KeyError (an InputError) with a one-line message naming the offending key, `key_prefix` + ".size",
 // ".assoc", ".line", ".policy" (e.g. "l1.size: 8000 is not a multiple of l1.line x l1.assoc (256)").
 void validate(const CacheParams& p, const std::string& key_prefix);
 

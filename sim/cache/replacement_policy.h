@@ -2,8 +2,8 @@
 // the victim in a full set; the cache itself fills invalid ways first (lowest way first), so a
 // policy is only asked for a victim when every way of the set is valid.
 //
-// Implementations live in policy/, one per file, chosen by name through
-// make_replacement_policy(). Each is a `final` class with inline members, so the cache can also
+// Implementations live in policy/, one per file, registered in policy/policies.h and chosen by
+// name through make_replacement_policy(). Each is a `final` class with inline members, so the cache can also
 // be instantiated directly on the concrete type (BasicSetAssocCache<LruPolicy>) and the calls
 // are then devirtualised and inlined; the virtual interface serves anything chosen at run time.
 #pragma once

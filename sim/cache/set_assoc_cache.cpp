@@ -6,12 +6,9 @@ namespace {
 
 SetAssocCache::Variant make_concrete(const CacheParams& p) {
   validate(p, "cache");
-  using V = SetAssocCache::Variant;
-  if (p.policy == LruPolicy::kName) return V(std::in_place_index<0>, p);
-  if (p.policy == TreePlruPolicy::kName) return V(std::in_place_index<1>, p);
-  if (p.policy == FifoPolicy::kName) return V(std::in_place_index<2>, p);
-  if (p.policy == RandomPolicy::kName) return V(std::in_place_index<3>, p);
-  return V(std::in_place_index<4>, p);  // registered with the factory only
+  return ReplacementPolicies::dispatch(p.policy, [&]<class Policy>() {
+    return SetAssocCache::Variant(std::in_place_type<BasicSetAssocCache<Policy>>, p);
+  });
 }
 
 }  // namespace
@@ -19,7 +16,7 @@ SetAssocCache::Variant make_concrete(const CacheParams& p) {
 SetAssocCache::SetAssocCache(const CacheParams& p) : impl_(make_concrete(p)) {}
 
 SetAssocCache SetAssocCache::through_virtual_policy(const CacheParams& p) {
-  return SetAssocCache(Variant(std::in_place_index<4>, p));
+  return SetAssocCache(Variant(std::in_place_type<BasicSetAssocCache<DynamicPolicy>>, p));
 }
 
 }  // namespace rtusim

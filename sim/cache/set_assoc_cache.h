@@ -19,10 +19,7 @@
 #include <vector>
 
 #include "cache/cache_params.h"
-#include "cache/policy/fifo_policy.h"
-#include "cache/policy/lru_policy.h"
-#include "cache/policy/random_policy.h"
-#include "cache/policy/tree_plru_policy.h"
+#include "cache/policy/policies.h"
 #include "cache/replacement_policy.h"
 
 namespace rtusim {
@@ -155,9 +152,8 @@ class BasicSetAssocCache {
 // A cache whose policy is chosen at run time by CacheParams::policy.
 class SetAssocCache {
  public:
-  using Variant = std::variant<BasicSetAssocCache<LruPolicy>, BasicSetAssocCache<TreePlruPolicy>,
-                               BasicSetAssocCache<FifoPolicy>, BasicSetAssocCache<RandomPolicy>,
-                               BasicSetAssocCache<DynamicPolicy>>;
+  // One concrete cache per registered policy (policy/policies.h), then the virtual one.
+  using Variant = ReplacementPolicies::variant_of<BasicSetAssocCache, DynamicPolicy>;
 
   // The concrete (inlined) cache for the policy named in `p`. Throws InputError on bad params.
   explicit SetAssocCache(const CacheParams& p);

@@ -126,6 +126,16 @@ void ConfigReader::fail(const std::string& key, const std::string& what) const {
   throw InputError(where + ": " + key + ": " + what);
 }
 
+void ConfigReader::fail(const KeyError& e) const {
+  for (const std::string& k : e.keys)
+    if (auto it = override_keys_.find(k); it != override_keys_.end())
+      throw InputError(it->second + ": " + e.what());
+  for (const std::string& k : e.keys)
+    if (const toml::node* n = find(k))
+      throw InputError(origin_ + ":" + std::to_string(n->source().begin.line) + ": " + e.what());
+  throw InputError(origin_ + ": " + e.what());
+}
+
 toml::table& ConfigReader::effective_table_for(const std::string& key) {
   used_[key] = true;
   const auto parts = split_key(key);
@@ -241,7 +251,7 @@ void ConfigReader::reject_unknown_keys() const {
   std::vector<std::pair<std::string, const toml::node*>> leaves;
   collect_leaves(root_, "", leaves);
   for (const auto& [name, node] : leaves)
-    if (!used_.count(name)) fail(name, "unknown key");
+    if (!used_.count(name)) fail(name, "unknown key (rtusim keys lists them)");
 }
 
 }  // namespace rtusim

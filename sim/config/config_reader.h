@@ -1,6 +1,7 @@
 // Reads a TOML run config with `--set` overrides. Every part declares the keys it reads, with
-// type, default and range, through this reader; what it read becomes the effective config, and
-// any key nobody read is rejected. Errors name the file, the line and the key.
+// type, default and range (config/param.h), and reads them through this reader; what it read
+// becomes the effective config, and any key nobody read is rejected. Errors name the file, the
+// line and the key, or the `--set` the value came from.
 #pragma once
 #include <map>
 #include <optional>
@@ -10,6 +11,8 @@
 
 #include <glm/vec3.hpp>
 #include <toml++/toml.h>
+
+#include "util/error.h"
 
 namespace rtusim {
 
@@ -37,6 +40,10 @@ class ConfigReader {
                                            const std::vector<std::string>& allowed = {});
   std::optional<glm::vec3> get_vec3(const std::string& key);
   bool has(const std::string& key) const;
+
+  // Rethrows a params validate() error with where its value came from: the first involved key
+  // set by `--set` (named with its assignment), else the first one in the file (file:line).
+  [[noreturn]] void fail(const KeyError& e) const;
 
   // Throws InputError for the first key (in file order) that no getter asked for.
   void reject_unknown_keys() const;

@@ -14,4 +14,8 @@ KdTree build_sah_kd_tree(const Scene& scene, const KdBuildParams& params);
 // (8 for an empty scene). The root has depth 0; no node is deeper than this.
 int kd_max_depth(uint64_t triangle_count, const KdBuildParams& params);
 
+class ConfigReader;
+// Reads the kdtree.* keys (declared in kd_build_params.cpp).
+KdBuildParams read_kd_build_params(ConfigReader& r);
+
 }  // namespace rtusim

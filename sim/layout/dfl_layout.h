@@ -18,7 +18,8 @@ namespace rtusim {
 class DflLayout final : public Layout {
  public:
   static constexpr uint32_t kNodeBytes = 8;
-  std::string_view name() const override { return "dfl"; }
+  static constexpr const char* kName = "dfl";
+  std::string_view name() const override { return kName; }
   MemoryImage build_image(const KdTree& tree, const Scene& scene) const override;
 
   // Decodes the node at `addr` of an image this layout wrote.

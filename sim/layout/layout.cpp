@@ -1,22 +1,28 @@
 // Layout factory and the lists/triangles regions every layout shares.
 #include "layout/layout.h"
 
-#include "layout/dfl_layout.h"
-#include "layout/odfl_layout.h"
-#include "layout/subtree_layout.h"
+#include "config/param.h"
+#include "layout/layouts.h"
 #include "util/error.h"
 
 namespace rtusim {
 
-std::vector<std::string> layout_kinds() { return {"dfl", "odfl", "subtree"}; }
+namespace {
+const StringListParam kLayoutKind("layout.kind", {"dfl"}, Layouts::names(),
+                                  "node layout, or a list of layouts run on the same rays");
+}  // namespace
+
+std::vector<std::string> layout_kinds() { return Layouts::names(); }
+
+std::vector<std::string> read_layout_kinds(ConfigReader& r) { return kLayoutKind.read(r); }
 
 std::unique_ptr<Layout> make_layout(const std::string& kind) {
-  if (kind == "dfl") return std::make_unique<DflLayout>();
-  if (kind == "odfl") return std::make_unique<OdflLayout>();
-  if (kind == "subtree") return std::make_unique<SubtreeLayout>();
-  std::string known;
-  for (const auto& k : layout_kinds()) known += (known.empty() ? "" : ", ") + k;
-  throw InputError("layout.kind: unknown layout '" + kind + "' (known: " + known + ")");
+  if (!Layouts::contains(kind))
+    throw InputError("layout.kind: unknown layout '" + kind + "' (known: " +
+                     Layouts::names_text() + ")");
+  return Layouts::dispatch(kind, []<class L>() -> std::unique_ptr<Layout> {
+    return std::make_unique<L>();
+  });
 }
 
 void write_lists_and_triangles(const KdTree& tree, const Scene& scene, uint64_t addr,

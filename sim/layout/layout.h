@@ -23,6 +23,10 @@ class Layout {
 std::unique_ptr<Layout> make_layout(const std::string& kind);
 std::vector<std::string> layout_kinds();
 
+class ConfigReader;
+// Reads layout.kind (one name or a list; declared in layout.cpp).
+std::vector<std::string> read_layout_kinds(ConfigReader& r);
+
 // Writes the lists and triangles regions that every layout shares, starting at `addr`
 // (after the nodes), and sizes the image. `leaf_list_addr[i]` receives the list address of
 // leaf node i (0 for leaves with fewer than two triangles).

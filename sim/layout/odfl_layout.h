@@ -27,7 +27,8 @@ class OdflLayout final : public Layout {
  public:
   static constexpr uint32_t kNodeBytes = 8;
   static constexpr uint32_t kReorderBit = 1u << 2;
-  std::string_view name() const override { return "odfl"; }
+  static constexpr const char* kName = "odfl";
+  std::string_view name() const override { return kName; }
   MemoryImage build_image(const KdTree& tree, const Scene& scene) const override;
 
   // Decodes the node at `addr` of an image this layout wrote.

@@ -38,7 +38,8 @@ class SubtreeLayout final : public Layout {
   static constexpr uint32_t kSlotBits = 3;
   static_assert(kNodesPerBlock == 5 && kNodesPerBlock <= (1u << kSlotBits));
 
-  std::string_view name() const override { return "subtree"; }
+  static constexpr const char* kName = "subtree";
+  std::string_view name() const override { return kName; }
   MemoryImage build_image(const KdTree& tree, const Scene& scene) const override;
 
   // Byte offset in the node region of the node with reference `ref`.

@@ -8,13 +8,6 @@
 
 namespace rtusim {
 
-void validate(const L1Params& p, const std::string& prefix) {
-  validate(p.cache, prefix);
-  if (p.hit_cycles == 0) throw InputError(prefix + ".hit_cycles: must be at least 1");
-  if (p.mshrs == 0) throw InputError(prefix + ".mshrs: must be at least 1");
-  if (p.clock_period_ps == 0) throw InputError("sim.clock_mhz: must be positive");
-}
-
 namespace {
 const L1Params& checked(const L1Params& p, const char* name) {
   validate(p, name);
@@ -186,6 +179,7 @@ void L1Cache::advance() {
 }
 
 void L1Cache::schedule_wake() {
+  if (driven_by_call_) return;
   // An earlier notification overrides a pending later one.
   const uint64_t h = horizon_ps();
   if (h != kNever) wake_.notify(ps(h - std::min(h, now_ps())));

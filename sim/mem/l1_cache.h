@@ -29,8 +29,8 @@
 // lookups still to decide. A request looked up at its own time is decided on arrival and, if
 // it is a hit or merges on a known fill, completes at once (TLM_COMPLETED, annotated time);
 // otherwise it gets BEGIN_RESP. A backlog (several requests in one cycle, a blocked port) is
-// decided by a method at its cycle, and the cache is a MemoryHorizon for the initiator
-// meanwhile.
+// decided by a method at its cycle (driven by call: by the initiator's call there), and the
+// cache is a MemoryHorizon for the initiator meanwhile.
 // Counters: hits, primary and merged misses, mshr_stall_cycles, and the mean primary miss
 // latency (fill cycle - request time t: port wait and stall included).
 #pragma once
@@ -45,23 +45,15 @@
 #include <tlm_utils/simple_target_socket.h>
 
 #include "cache/cache_params.h"
+#include "mem/l1_params.h"
 #include "cache/set_assoc_cache.h"
 #include "mem/mem_protocol.h"
 #include "mem/node_l1.h"
 
 namespace rtusim {
 
-struct L1Params {
-  CacheParams cache;              // geometry and replacement (l1.size/assoc/line/policy)
-  uint32_t hit_cycles = 2;        // tag + data access
-  uint32_t mshrs = 8;             // outstanding line misses
-  uint64_t clock_period_ps = 1000;
-};
-
-// Throws InputError naming `prefix`.hit_cycles / .mshrs / the cache keys.
-void validate(const L1Params& p, const std::string& prefix);
-
-class L1Cache : public sc_core::sc_module, public NodeL1, public MemoryHorizon {
+class L1Cache : public sc_core::sc_module, public NodeL1, public MemoryHorizon,
+                public CallDriven {
  public:
   tlm_utils::simple_target_socket<L1Cache> target_socket;        // from the unit
   tlm_utils::simple_initiator_socket<L1Cache> initiator_socket;  // to DRAM
@@ -88,6 +80,13 @@ class L1Cache : public sc_core::sc_module, public NodeL1, public MemoryHorizon {
   // The cycle of the first lookup not decided yet (the initiator must not run past it), or
   // never.
   uint64_t horizon_ps() const override;
+  // A module is never a const object: the horizon view hands out the module to drive.
+  CallDriven* call_driven() const override { return const_cast<L1Cache*>(this); }
+  void set_driven_by_call(bool on) override {
+    driven_by_call_ = on;
+    if (!on) schedule_wake();  // its process takes over from here
+  }
+  void act_at_horizon(uint64_t) override { advance(); }
   const SetAssocCache& tags() const { return tags_; }
   const L1Params& params() const { return p_; }
 
@@ -136,6 +135,7 @@ class L1Cache : public sc_core::sc_module, public NodeL1, public MemoryHorizon {
   std::deque<Request> queue_;     // not looked up yet, arrival order
   uint64_t next_lookup_ = 0;      // the port's next free cycle
   sc_core::sc_event wake_;
+  bool driven_by_call_ = false;  // the initiator calls act_at_horizon(): no wake-ups
   uint64_t hits_ = 0, primary_ = 0, merged_ = 0, stall_cycles_ = 0;
   uint64_t fills_ = 0, miss_latency_cycles_ = 0;
 };

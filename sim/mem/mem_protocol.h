@@ -35,16 +35,42 @@ struct FetchTag : tlm::tlm_extension<FetchTag> {
   }
 };
 
+// A memory component that can be driven by call: it acts only at its horizon, on what it was
+// sent, so an initiator that bounds its run-ahead by every memory component's horizon can act
+// for it there instead of letting the kernel get there (no context switch per decision: the
+// memory side runs ahead of the kernel with the initiator).
+class CallDriven {
+ public:
+  virtual ~CallDriven() = default;
+  // From now on driven by call only (its own process is not woken) or by its process again.
+  virtual void set_driven_by_call(bool on) = 0;
+  // Does now what the component's process would do when the kernel reached `at_ps` (its
+  // horizon, at or after the kernel's time); answers carry delays from the kernel's time.
+  virtual void act_at_horizon(uint64_t at_ps) = 0;
+};
+
 class MemoryHorizon {
  public:
   static constexpr uint64_t kNever = std::numeric_limits<uint64_t>::max();
   virtual ~MemoryHorizon() = default;
   // Earliest absolute time (ps) at which this component acts on its own; kNever if idle.
   virtual uint64_t horizon_ps() const = 0;
+  // The component as CallDriven, or nullptr if only its own process may act (then an
+  // initiator must let the kernel reach the horizon).
+  virtual CallDriven* call_driven() const { return nullptr; }
 };
 
-inline uint64_t now_ps() { return sc_core::sc_time_stamp().value(); }  // resolution is 1 ps
-inline sc_core::sc_time ps(uint64_t v) { return sc_core::sc_time::from_value(v); }
+// Both inline: sc_time_stamp() and sc_time::from_value() are calls into the SystemC library,
+// made several times per simulated fetch.
+inline uint64_t now_ps() {  // resolution is 1 ps
+  return sc_core::sc_get_curr_simcontext()->time_stamp().value();
+}
+inline sc_core::sc_time ps(uint64_t v) {
+  // 1 ps scaled by v: exact below 2^52 (sc_time adds 0.5 to the double product and truncates).
+  static const sc_core::sc_time kOnePs = sc_core::sc_time::from_value(1);
+  if (v >= (uint64_t{1} << 52)) [[unlikely]] return sc_core::sc_time::from_value(v);
+  return kOnePs * static_cast<double>(v);
+}
 
 // Sets up a READ payload of `bytes` at `addr` (no data buffer: the traversal reads the memory
 // image itself; the memory system models time only).

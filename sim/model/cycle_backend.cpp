@@ -45,8 +45,8 @@ struct CycleBackend::Top : sc_core::sc_module {
 };
 
 namespace {
-CycleParams finished(CycleParams p) {
-  p.finish();
+CycleParams derived(CycleParams p) {
+  p.derive();
   return p;
 }
 // A new SystemC context, made current, for one backend's top.
@@ -59,7 +59,7 @@ sc_core::sc_simcontext* fresh_context() {
 }  // namespace
 
 CycleBackend::CycleBackend(const MemoryImage& image, const CycleParams& params)
-    : params_(finished(params)),
+    : params_(derived(params)),
       context_(fresh_context()),
       top_(std::make_unique<Top>("rtu", image, params_)) {
   if (!params_.vcd_path.empty() && params_.node_l1_model == "cpp") {

@@ -28,7 +28,9 @@ class TraversalUnit;
 
 class CycleBackend final : public TraceBackend {
  public:
-  // `image` must outlive the backend. Throws InputError on bad params.
+  // `image` must outlive the backend. `params` come validated (read_cycle_params(), or
+  // CycleParams::finish()); the clock period and line sizes are derived here. The modules
+  // check their own params on construction (InputError).
   CycleBackend(const MemoryImage& image, const CycleParams& params);
   ~CycleBackend() override;
 

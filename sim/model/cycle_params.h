@@ -1,42 +1,18 @@
-// Parameters of the cycle tier and the config keys they come from.
-//
-// Keys (default):
-//   sim.rays_in_flight        32        rays the unit holds at once (contract key)
-//   sim.clock_mhz             1000      unit and cache clock
-//   sim.step_cycles           4         node data in -> traversal step decided
-//   sim.stack_depth           32        hardware stack entries per ray (<= 64); steps that go
-//                                       deeper are counted in unit.stack_overflow_steps
-//   isect.lanes               1         ray-triangle test pipelines
-//   isect.latency_cycles      20        test issue -> result
-//   isect.interval_cycles     1         initiation interval of a lane
-//   l1.hit_cycles             2         node L1 hit latency (geometry: l1.size/assoc/line/policy)
-//   l1.mshrs                  8         node L1 outstanding line misses
-//   l1.model                  "cpp"     node L1 model: cpp (mem/l1_cache.h) | rtl (the Verilated
-//                                       rtl_model/l1_cache.sv; only built size/assoc/line/policy
-//                                       combinations, l1.mshrs = 8, l1.hit_cycles = 2)
-//   sim.vcd                   ""        l1.model = rtl: write a VCD of the RTL L1's signals here
-//   dcache.enable             false     list/triangle cache (else straight to DRAM, per burst)
-//   dcache.hit_cycles         2         (geometry: dcache.size/assoc/line/policy)
-//   dcache.mshrs              8
-//   dram.standard             "DDR4-2400"  preset for the keys below: DDR4-2400 | DDR4-3200
-//   dram.channels             1
-//   dram.banks                16        per channel
-//   dram.row_bytes            8192      row buffer per channel
-//   dram.data_rate_mts        2400      (3200)
-//   dram.bus_bytes            8         data bus width per channel
-//   dram.burst_length         8
-//   dram.tRCD_ns, dram.tRP_ns, dram.tCL_ns   14.16 each (13.75 for DDR4-3200)
+// Parameters of the cycle tier, assembled from the config subtrees it uses (sim.clock_mhz,
+// sim.vcd declared in cycle_params.cpp; unit_params.h, l1_params.h, dram_params.h for the rest).
+// Plain data: no SystemC.
 #pragma once
 #include <cstdint>
 #include <optional>
 #include <string>
 
-#include "config/config_reader.h"
 #include "mem/dram/dram_params.h"
-#include "mem/l1_cache.h"
-#include "model/traversal_unit.h"
+#include "mem/l1_params.h"
+#include "model/unit_params.h"
 
 namespace rtusim {
+
+class ConfigReader;
 
 struct CycleParams {
   double clock_mhz = 1000.0;
@@ -48,12 +24,27 @@ struct CycleParams {
   std::string vcd_path;  // sim.vcd: with the C++ L1 the unit's state, with the RTL L1 its
                          // signals; empty: none
 
-  // Derives the clock period and the unit's request split from the rest; validates everything.
+  // Derives the clock period and the unit's request split from the rest.
+  void derive();
+  // derive(), then validate(*this).
   void finish();
 };
 
-// Reads the keys above (and l1.* / dcache.* geometry through read_fetch_cache_params).
-// Throws InputError naming the key.
+// The checks across keys (clock, unit, L1 timing, the RTL L1's builds); the cache geometry and
+// the DRAM are checked when read (and by their modules on construction). Throws KeyError naming
+// the keys involved.
+void validate(const CycleParams& p);
+
+// The cycle tier's own keys.
+double read_clock_mhz(ConfigReader& r);
+std::string read_vcd_path(ConfigReader& r);
+
+// Assembles derived (not validated) cycle params from the configured subtrees.
+CycleParams make_cycle_params(double clock_mhz, const UnitParams& unit, const L1Config& l1,
+                              const L1Config& dcache, const DramParams& dram,
+                              const std::string& vcd_path);
+
+// Reads every key above and validates (errors name the key and where it was set).
 CycleParams read_cycle_params(ConfigReader& r);
 
 }  // namespace rtusim

@@ -11,26 +11,6 @@
 
 namespace rtusim {
 
-void validate(const UnitParams& p) {
-  auto at_least_1 = [](uint64_t v, const char* key) {
-    if (v == 0) throw InputError(std::string(key) + ": must be at least 1");
-  };
-  at_least_1(p.rays_in_flight, "sim.rays_in_flight");
-  at_least_1(p.clock_period_ps, "sim.clock_mhz");
-  at_least_1(p.stack_depth, "sim.stack_depth");
-  at_least_1(p.isect_lanes, "isect.lanes");
-  at_least_1(p.isect_interval_cycles, "isect.interval_cycles");
-  at_least_1(p.node_line_bytes, "l1.line");
-  at_least_1(p.data_line_bytes, "dcache.line");
-  constexpr uint32_t kMaxSlots = 1u << EventWheel::kSlotBits;  // 1048576
-  if (p.rays_in_flight > kMaxSlots)
-    throw InputError("sim.rays_in_flight: " + std::to_string(p.rays_in_flight) +
-                     " is more than " + std::to_string(kMaxSlots));
-  if (p.stack_depth > TraversalState::kStackDepth)
-    throw InputError("sim.stack_depth: " + std::to_string(p.stack_depth) + " is more than " +
-                     std::to_string(TraversalState::kStackDepth) + " entries");
-}
-
 namespace {
 const UnitParams& checked(const UnitParams& p) {
   validate(p);
@@ -78,6 +58,12 @@ template <class Decoder>
 void TraversalUnit::run_batch() {
   const uint64_t t0 = cycle_at_or_after(now_ps());
   last_cycle_ = t0;
+  // When every memory component can be driven by call, the unit acts for them at their
+  // horizons and the kernel only catches up at the end of the batch.
+  bool by_call = !horizons_.empty();
+  for (const MemoryHorizon* m : horizons_) by_call = by_call && m->call_driven();
+  if (by_call)
+    for (const MemoryHorizon* m : horizons_) m->call_driven()->set_driven_by_call(true);
   for (uint32_t i = 0; i < slots_.size(); ++i) start_ray(i, t0);
   if (vcd_) trace(t0);
   while (active_ > 0) {
@@ -98,9 +84,21 @@ void TraversalUnit::run_batch() {
       // Nothing to do before the memory acts on its own: let the kernel get there.
       if (h == MemoryHorizon::kNever)
         throw std::logic_error("traversal unit: rays wait for memory that has nothing scheduled");
+      ++kernel_waits_;
+      if (by_call) {
+        // What the kernel would run at h: every component due there (a snapshot, as the
+        // kernel's timed notifications for h), in the reverse order of add_horizon(): the
+        // backend adds the DRAM first, so the caches act before the DRAM they read from, the
+        // order in which the kernel runs them (unit.kernel_waits, which counts these syncs, is
+        // the kernel's count in every reference case).
+        due_.clear();
+        for (auto it = horizons_.rbegin(); it != horizons_.rend(); ++it)
+          if ((*it)->horizon_ps() <= h) due_.push_back((*it)->call_driven());
+        for (CallDriven* m : due_) m->act_at_horizon(h);
+        continue;
+      }
       const uint64_t now = now_ps();
       wait(h > now ? ps(h - now) : sc_core::SC_ZERO_TIME);
-      ++kernel_waits_;
       continue;
     }
     uint64_t t;
@@ -111,6 +109,8 @@ void TraversalUnit::run_batch() {
     if (vcd_) trace(t);
   }
   // The kernel catches up with the unit: the batch ends at its last event.
+  if (by_call)
+    for (const MemoryHorizon* m : horizons_) m->call_driven()->set_driven_by_call(false);
   const uint64_t end_ps = last_cycle_ * period_, now = now_ps();
   if (end_ps > now) wait(ps(end_ps - now));
 }
@@ -300,15 +300,16 @@ void TraversalUnit::issue(uint32_t slot, size_t first, size_t last, uint64_t t) 
     auto& socket = node ? node_socket : data_socket;
     for (uint64_t a = f.addr; a < f.addr + f.bytes;) {
       const uint64_t end = std::min<uint64_t>(f.addr + f.bytes, (a / line + 1) * line);
-      tlm::tlm_generic_payload* p;
+      UnitPayload* p;
       if (free_payloads_.empty()) {
         p = &payloads_.emplace_back();
-        p->set_extension(new FetchTag);
+        p->tag = new FetchTag;
+        p->set_extension(p->tag);
       } else {
         p = free_payloads_.back();
         free_payloads_.pop_back();
       }
-      FetchTag* tag = p->get_extension<FetchTag>();
+      FetchTag* tag = p->tag;
       tag->stream = f.stream;
       tag->owner = slot;
       // One request per line touched, for the whole line: the caches fill lines, and a data
@@ -337,8 +338,9 @@ void TraversalUnit::arrived(tlm::tlm_generic_payload& trans, uint64_t at_ps) {
   if (trans.get_response_status() != tlm::TLM_OK_RESPONSE)
     throw std::logic_error("traversal unit: memory error at address " +
                            std::to_string(trans.get_address()));
-  const uint32_t slot = trans.get_extension<FetchTag>()->owner;
-  free_payloads_.push_back(&trans);
+  UnitPayload& p = static_cast<UnitPayload&>(trans);  // ours: sent by issue()
+  const uint32_t slot = p.tag->owner;
+  free_payloads_.push_back(&p);
   Slot& s = slots_[slot];
   s.ready = std::max(s.ready, cycle_at_or_after(at_ps));
   if (--s.pending == 0 && !s.issuing) arrivals_.push(s.ready, slot);

@@ -16,8 +16,11 @@
 // responses arrive as annotated BEGIN_RESP calls; a ray whose data is all there is queued by
 // (data cycle, slot) and taken in that order, before the events of the same cycle, so steps are
 // booked in time order whatever order the memory side happened to announce them in (the C++ and
-// the RTL L1 announce at different moments and must give identical runs). So the kernel
-// switches context about once per DRAM decision, not once per node.
+// the RTL L1 announce at different moments and must give identical runs). When every memory
+// component can be driven by call (the C++ L1s and the DRAM: MemoryHorizon::call_driven()), the
+// unit does not wait for the kernel at a horizon but makes the components act there itself,
+// and the kernel only catches up at the end of the batch: no context switch per DRAM decision.
+// With the RTL L1, which runs on the kernel's clock, the kernel gets there.
 #pragma once
 #include <cstdint>
 #include <deque>
@@ -32,6 +35,7 @@
 #include "mem/mem_protocol.h"
 #include "model/event_wheel.h"
 #include "model/host_interface.h"
+#include "model/unit_params.h"
 #include "traversal/traversal.h"
 
 namespace rtusim {
@@ -40,20 +44,6 @@ class VcdWriter;
 
 class Stats;
 
-struct UnitParams {
-  uint32_t rays_in_flight = 32;
-  uint64_t clock_period_ps = 1000;
-  uint32_t step_cycles = 4;       // node arrival -> step decided
-  uint32_t stack_depth = 32;      // hardware stack entries per ray (steps deeper are counted)
-  uint32_t isect_lanes = 1;
-  uint32_t isect_latency_cycles = 20;
-  uint32_t isect_interval_cycles = 1;  // initiation interval per lane
-  uint32_t node_line_bytes = 64;  // node fetches are split at node L1 lines
-  uint32_t data_line_bytes = 64;  // list/triangle fetches: data cache lines or DRAM bursts
-};
-
-// Throws InputError naming the config key of a bad value.
-void validate(const UnitParams& p);
 
 class TraversalUnit : public sc_core::sc_module {
  public:
@@ -131,6 +121,7 @@ class TraversalUnit : public sc_core::sc_module {
   const MemoryImage& image_;
   HostInterface& host_;
   std::vector<const MemoryHorizon*> horizons_;
+  std::vector<CallDriven*> due_;  // scratch: components acted for at one horizon
   std::vector<Slot> slots_;
   EventWheel events_;
   EventWheel arrivals_;  // rays whose data is all there, by data cycle, then slot
@@ -144,8 +135,13 @@ class TraversalUnit : public sc_core::sc_module {
   uint64_t calendar_clear_ = 0;          // cycles before this one are cleared
   std::vector<uint64_t> lane_free_;  // per intersection lane: next cycle it takes a test
 
-  std::deque<tlm::tlm_generic_payload> payloads_;  // each owns its FetchTag
-  std::vector<tlm::tlm_generic_payload*> free_payloads_;
+  // A payload of the unit's, with its tag at hand (get_extension() is a library call; the
+  // memory side returns the very payload the unit sent).
+  struct UnitPayload : tlm::tlm_generic_payload {
+    FetchTag* tag = nullptr;  // owned by the payload as its extension
+  };
+  std::deque<UnitPayload> payloads_;
+  std::vector<UnitPayload*> free_payloads_;
   uint64_t last_cycle_ = 0;  // of the last event processed
 
   uint64_t steps_ = 0, leaf_steps_ = 0, isect_tests_ = 0, rays_ = 0;

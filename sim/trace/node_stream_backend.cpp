@@ -1,11 +1,7 @@
 // Node-stream recording through the shared traversal step.
 #include "trace/node_stream_backend.h"
 
-#include "app/pipeline.h"
 #include "layout/layout_dispatch.h"
-#include "scene/pinhole_camera.h"
-#include "trace/trace_format.h"
-#include "tracer/whitted_tracer.h"
 #include "traversal/traversal.h"
 
 namespace rtusim {
@@ -19,25 +15,6 @@ struct NodeOnlySink {
   }
 };
 
-struct DigestRecorder final : NodeStreamRecorder {
-  TraceDigest digest;
-  void node_fetch(uint64_t addr) override { digest.add(addr); }
-};
-
-struct WriterRecorder final : NodeStreamRecorder {
-  TraceWriter& writer;
-  explicit WriterRecorder(TraceWriter& w) : writer(w) {}
-  void node_fetch(uint64_t addr) override { writer.append(addr); }
-};
-
-void render_frame(const Prepared& p, const MemoryImage& image, NodeStreamRecorder& recorder) {
-  const int w = p.config.image.width, h = p.config.image.height;
-  const PinholeCamera camera(p.camera, w, h);
-  NodeStreamBackend backend(image, recorder);
-  WhittedTracer tracer(p.scene, p.config.tracer, backend);
-  tracer.render(camera, w, h);
-}
-
 }  // namespace
 
 void NodeStreamBackend::trace(std::span<const RayRecord> rays, std::span<Hit> hits) {
@@ -46,17 +23,6 @@ void NodeStreamBackend::trace(std::span<const RayRecord> rays, std::span<Hit> hi
     for (size_t i = 0; i < rays.size(); ++i)
       hits[i] = traverse<Decoder>(image_, rays[i].ray, rays[i].any_hit(), sink);
   });
-}
-
-TraceDigest node_stream_digest(const Prepared& p, const MemoryImage& image) {
-  DigestRecorder r;
-  render_frame(p, image, r);
-  return r.digest;
-}
-
-void write_node_stream(const Prepared& p, const MemoryImage& image, TraceWriter& writer) {
-  WriterRecorder r(writer);
-  render_frame(p, image, r);
 }
 
 }  // namespace rtusim

@@ -28,14 +28,4 @@ class NodeStreamBackend final : public TraceBackend {
   NodeStreamRecorder& recorder_;
 };
 
-struct Prepared;
-class TraceWriter;
-struct TraceDigest;
-
-// Traces the prepared run's frame over `image` and returns the node stream's count and
-// checksum (what `rtusim regress` records as trace.node_stream.*).
-TraceDigest node_stream_digest(const Prepared& p, const MemoryImage& image);
-// Traces the frame over `image` into `writer` (not finished).
-void write_node_stream(const Prepared& p, const MemoryImage& image, TraceWriter& writer);
-
 }  // namespace rtusim

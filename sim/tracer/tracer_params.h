@@ -1,4 +1,5 @@
-// Parameters of the host Whitted tracer.
+// Parameters of the host Whitted tracer, and the tracer.* keys they come from (declared in
+// tracer_params.cpp).
 #pragma once
 #include <glm/vec3.hpp>
 
@@ -17,5 +18,9 @@ struct TracerParams {
   glm::vec3 background{0.5f, 0.5f, 1.0f};
   bool headlight = true;           // a point light at the eye when the scene has none
 };
+
+class ConfigReader;
+// Reads tracer.* (errors name the key and where it was set).
+TracerParams read_tracer_params(ConfigReader& r);
 
 }  // namespace rtusim

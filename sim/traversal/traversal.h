@@ -36,11 +36,13 @@ struct TraversalState {
 
   Ray ray;
   bool any_hit = false;  // shadow rays: stop at the first hit in (0, t_max)
-  glm::vec3 inv_dir{0.0f};
+  // Per axis, as plain arrays (a glm::vec3 indexed by a run-time axis is a switch): origin,
+  // direction, 1/direction and |1/direction|.
+  float org[3] = {0, 0, 0}, dir[3] = {0, 0, 1}, inv_dir[3] = {0, 0, 1}, abs_inv_dir[3] = {0, 0, 1};
   WatertightRay wray;
   uint64_t node = 0;  // node to visit next
   float t_min = 0.0f, t_max = 0.0f;
-  Entry stack[kStackDepth];
+  Entry stack[kStackDepth + 1];  // + 1: an interior step writes its far entry before deciding
   int sp = 0;
   bool done = false;
   Hit hit;
@@ -58,7 +60,10 @@ inline void traversal_begin(TraversalState& s, const MemoryImage& image, const R
   s.wray = WatertightRay(ray.origin, ray.dir);
   float t0 = 0.0f, t1 = ray.t_max;
   for (int a = 0; a < 3; ++a) {
+    s.org[a] = ray.origin[a];
+    s.dir[a] = ray.dir[a];
     s.inv_dir[a] = 1.0f / ray.dir[a];  // +-inf for a zero component, handled below
+    s.abs_inv_dir[a] = std::abs(s.inv_dir[a]);
     const float o = ray.origin[a];
     if (ray.dir[a] == 0.0f) {
       if (o < image.bounds_min[a] || o > image.bounds_max[a]) t1 = -1.0f;
@@ -91,51 +96,46 @@ namespace detail {
   }
   return false;
 }
-}  // namespace detail
 
-// Visits one node of ray `s`. `Decoder` is the layout's static decode(image, addr) -> NodeView.
-template <class Decoder, class Sink>
-[[gnu::always_inline]] inline StepKind traversal_step(TraversalState& s, const MemoryImage& image, Sink& sink) {
-  if (s.done) return StepKind::kDone;
-  sink.fetch(Stream::kNode, s.node, image.node_bytes);
-  const NodeView n = Decoder::decode(image, s.node);
-
-  if (!n.leaf) {
-    // Interior: which side the origin is on, and where the ray crosses the plane.
-    const int a = n.axis;
-    const float o = s.ray.origin[a], d = s.ray.dir[a];
-    const bool below_first = o < n.split || (o == n.split && d <= 0.0f);
-    const uint64_t near = below_first ? n.below_addr : n.above_addr;
-    const uint64_t far = below_first ? n.above_addr : n.below_addr;
-    const float t_plane = (n.split - o) * s.inv_dir[a];
-    if (d == 0.0f || std::isnan(t_plane)) {
-      // Parallel to the plane (or 0 * inf): a ray in the plane sees both sides, else one.
-      if (o == n.split) {
-        s.stack[s.sp++] = {n.above_addr, s.t_min, s.t_max};
-        s.node = n.below_addr;
-      } else {
-        s.node = near;
-      }
+// An interior node's step: the next node, and the far child pushed when the ray sees both.
+[[gnu::always_inline]] inline void interior_step(TraversalState& s, const NodeView& n) {
+  // Interior: which side the origin is on, and where the ray crosses the plane.
+  const int a = n.axis;
+  const float o = s.org[a], d = s.dir[a];
+  const bool below_first = o < n.split || (o == n.split && d <= 0.0f);
+  const uint64_t near = below_first ? n.below_addr : n.above_addr;
+  const uint64_t far = below_first ? n.above_addr : n.below_addr;
+  const float t_plane = (n.split - o) * s.inv_dir[a];
+  if (d == 0.0f || std::isnan(t_plane)) [[unlikely]] {
+    // Parallel to the plane (or 0 * inf): a ray in the plane sees both sides, else one.
+    if (o == n.split) {
+      s.stack[s.sp++] = {n.above_addr, s.t_min, s.t_max};
+      s.node = n.below_addr;
     } else {
-      // Decisions are conservative by the rounding error of t_plane (the operands' ulps, in t,
-      // plus a relative margin; |t_plane| <= (|split| + |o|) |1/d|, so one product bounds
-      // both): a ray that passes through a leaf's closed box, even at one corner point, visits
-      // it, so hits on shared edges and vertices never slip between leaves.
-      const float slack = (std::abs(n.split) + std::abs(o)) * std::abs(s.inv_dir[a]) * 0x1p-19f;
-      if (t_plane - slack > s.t_max || t_plane <= 0.0f) {
-        s.node = near;  // the plane lies beyond the interval or behind the origin
-      } else if (t_plane + slack < s.t_min) {
-        s.node = far;  // the ray enters the interval already past the plane
-      } else {
-        s.stack[s.sp++] = {far, std::max(s.t_min, t_plane - slack), s.t_max};
-        s.node = near;
-        s.t_max = std::min(s.t_max, t_plane + slack);
-      }
+      s.node = near;
     }
-    return StepKind::kInterior;
+    return;
   }
+  // Decisions are conservative by the rounding error of t_plane (the operands' ulps, in t,
+  // plus a relative margin; |t_plane| <= (|split| + |o|) |1/d|, so one product bounds
+  // both): a ray that passes through a leaf's closed box, even at one corner point, visits
+  // it, so hits on shared edges and vertices never slip between leaves.
+  const float slack = (std::abs(n.split) + std::abs(o)) * s.abs_inv_dir[a] * 0x1p-19f;
+  if (t_plane - slack > s.t_max || t_plane <= 0.0f) {
+    s.node = near;  // the plane lies beyond the interval or behind the origin
+  } else if (t_plane + slack < s.t_min) {
+    s.node = far;  // the ray enters the interval already past the plane
+  } else {
+    s.stack[s.sp++] = {far, std::max(s.t_min, t_plane - slack), s.t_max};
+    s.node = near;
+    s.t_max = std::min(s.t_max, t_plane + slack);
+  }
+}
 
-  // Leaf: fetch its list (if any) and triangles, and test each.
+// A leaf's step: fetches its list (if any) and triangles, tests each, then pops or finishes.
+template <class Sink>
+[[gnu::always_inline]] inline void leaf_step(TraversalState& s, const MemoryImage& image,
+                                             const NodeView& n, Sink& sink) {
   const uint8_t* bytes = image.bytes.data();
   if (n.prim_count >= 2) sink.fetch(Stream::kList, n.list_addr, n.prim_count * 4u);
   for (uint32_t i = 0; i < n.prim_count; ++i) {
@@ -152,13 +152,27 @@ template <class Decoder, class Sink>
       if (s.any_hit) {
         s.leaf_prims_tested = i + 1;
         s.done = true;
-        return StepKind::kLeaf;
+        return;
       }
     }
   }
   s.leaf_prims_tested = n.prim_count;
   // The ray is finished in this leaf when its hit lies inside the leaf's interval.
-  if (s.hit.t <= s.t_max || !detail::traversal_pop(s)) s.done = true;
+  if (s.hit.t <= s.t_max || !traversal_pop(s)) s.done = true;
+}
+}  // namespace detail
+
+// Visits one node of ray `s`. `Decoder` is the layout's static decode(image, addr) -> NodeView.
+template <class Decoder, class Sink>
+[[gnu::always_inline]] inline StepKind traversal_step(TraversalState& s, const MemoryImage& image, Sink& sink) {
+  if (s.done) return StepKind::kDone;
+  sink.fetch(Stream::kNode, s.node, image.node_bytes);
+  const NodeView n = Decoder::decode(image, s.node);
+  if (!n.leaf) [[likely]] {
+    detail::interior_step(s, n);
+    return StepKind::kInterior;
+  }
+  detail::leaf_step(s, image, n, sink);
   return StepKind::kLeaf;
 }
 
@@ -167,7 +181,16 @@ template <class Decoder, class Sink = NullFetchSink>
 inline Hit traverse(const MemoryImage& image, const Ray& ray, bool any_hit, Sink& sink) {
   TraversalState s;
   traversal_begin(s, image, ray, any_hit);
-  while (traversal_step<Decoder>(s, image, sink) != StepKind::kDone) {
+  // The step function's visits, as an inner descent loop over interior nodes and one leaf.
+  while (!s.done) {
+    sink.fetch(Stream::kNode, s.node, image.node_bytes);
+    NodeView n = Decoder::decode(image, s.node);
+    while (!n.leaf) {
+      detail::interior_step(s, n);
+      sink.fetch(Stream::kNode, s.node, image.node_bytes);
+      n = Decoder::decode(image, s.node);
+    }
+    detail::leaf_step(s, image, n, sink);
   }
   return s.hit;
 }

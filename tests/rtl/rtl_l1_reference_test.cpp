@@ -67,12 +67,12 @@ TEST(RtlL1ReferenceCases, EveryAccessAgreesAndTotalsMatchExpected) {
       continue;
     }
     // The blocking line stream is the functional tier's; timed tiers interleave rays.
-    if (p.config.sim.tier != Tier::kFunctional) {
+    if (p.config.sim.tier != "functional") {
       std::printf("%s: skipped (sim.tier = %s: its totals are not the blocking stream's)\n",
-                  name.c_str(), p.config.sim.tier_name.c_str());
+                  name.c_str(), p.config.sim.tier.c_str());
       continue;
     }
-    const CacheParams& l1 = p.config.caches.node_l1;
+    const CacheParams& l1 = p.config.l1.params.cache;
     const RtlL1Build* build = find_rtl_l1_build(l1);
     if (!build) {
       std::printf("%s: skipped (L1 not built)\n", name.c_str());

@@ -6,7 +6,7 @@
 #include <random>
 #include <string>
 
-#include "config/run_config.h"
+#include "app/run_config.h"
 #include "kdtree/sah_builder.h"
 #include "layout/dfl_layout.h"
 #include "scene/builtin_scene.h"

@@ -49,10 +49,13 @@ TEST(CacheConfigTest, DefaultsAreThePaperCache) {
 
 TEST(CacheConfigTest, ErrorsNameKeyAndFile) {
   EXPECT_EQ(read_error("[l1]\nsize = 8000\n"),
-            "test.toml: l1.size: 8000 is not a multiple of l1.line x l1.assoc (256)");
+            "test.toml:2: l1.size: 8000 is not a multiple of l1.line x l1.assoc (256)");
+  // A check across keys names the line of the key involved that the file sets.
+  EXPECT_EQ(read_error("[l1]\n\nassoc = 256\n"),
+            "test.toml:3: l1.size: 8192 is smaller than l1.line x l1.assoc (16384)");
   EXPECT_NE(read_error("[l1]\npolicy = \"mru\"\n").find("l1.policy"), std::string::npos);
   EXPECT_NE(read_error("[l1]\nassoc = 0\n").find("l1.assoc"), std::string::npos);
-  EXPECT_EQ(read_error("[dcache]\nline = 48\n"), "test.toml: dcache.line: 48 must be a power of two >= 4");
+  EXPECT_EQ(read_error("[dcache]\nline = 48\n"), "test.toml:2: dcache.line: 48 must be a power of two >= 4");
 }
 
 }  // namespace

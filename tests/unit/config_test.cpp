@@ -2,9 +2,12 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <functional>
+#include <set>
 #include <fstream>
 
-#include "config/run_config.h"
+#include "app/run_config.h"
+#include "config/param.h"
 #include "util/error.h"
 
 namespace rtusim {
@@ -33,7 +36,7 @@ TEST(Config, DefaultsAndEffectiveConfig) {
   EXPECT_EQ(c.scene.resolved, "builtin:cornell");
   EXPECT_EQ(c.image.width, 256);
   EXPECT_EQ(c.tracer.max_depth, 4);
-  EXPECT_EQ(c.layouts, std::vector<std::string>{"dfl"});
+  EXPECT_EQ(c.layout.kinds, std::vector<std::string>{"dfl"});
   // The effective config holds every key with its value, defaults included.
   EXPECT_EQ(c.effective["tracer"]["max_depth"].value<int64_t>(), 4);
   EXPECT_EQ(c.effective["tracer"]["ray_order"].value<std::string>(), "recursive");
@@ -106,6 +109,43 @@ TEST(Config, ScenePathsResolve) {
 TEST(Config, CameraNeedsEyeAndTarget) {
   const auto path = write_config("cam.toml", "[camera]\neye = [0, 0, 1]\n");
   EXPECT_NE(error_of(path).find("camera.target"), std::string::npos);
+}
+
+TEST(Config, SetErrorsNameTheSet) {
+  // A value from --set is reported against the --set, also when a check across keys fails.
+  const auto path = write_config("set.toml", "[l1]\nsize = 8192\n");
+  EXPECT_EQ(error_of(path, {"l1.assoc=256"}),
+            "--set l1.assoc=256: l1.size: 8192 is smaller than l1.line x l1.assoc (16384)");
+  EXPECT_EQ(error_of(path, {"dram.channels=0"}).rfind("--set dram.channels=0: dram.channels:", 0),
+            0u)
+      << error_of(path, {"dram.channels=0"});
+  // Without a --set, the file and the line of the key it sets.
+  const auto bad = write_config("bad.toml", "[image]\nwidth = 8\n[dram]\nrow_bytes = 100\n");
+  EXPECT_EQ(error_of(bad), bad + ":4: dram.row_bytes: 100 is not a multiple of a burst (64 bytes)");
+}
+
+TEST(Config, EveryDeclaredKeyIsReadAndEveryReadKeyDeclared) {
+  // With an explicit camera and background (keys without a default are recorded only when
+  // given) every key is read; the effective config then holds exactly the declared keys.
+  const auto path = write_config("all.toml",
+                                 "[camera]\neye = [0, 0, 5]\ntarget = [0, 0, 0]\nup = [0, 1, 0]\n"
+                                 "[tracer]\nbackground = [0, 0, 0]\n");
+  const RunConfig c = load_run_config(path, {});
+  std::set<std::string> effective, declared;
+  std::function<void(const toml::table&, const std::string&)> walk =
+      [&](const toml::table& t, const std::string& prefix) {
+        for (const auto& [k, v] : t) {
+          const std::string name = prefix + std::string(k.str());
+          if (const auto* sub = v.as_table()) walk(*sub, name + ".");
+          else effective.insert(name);
+        }
+      };
+  walk(c.effective, "");
+  for (const ParamDecl* d : declared_params()) {
+    EXPECT_TRUE(declared.insert(d->key()).second) << d->key() << " declared twice";
+  }
+  EXPECT_EQ(effective, declared);
+  EXPECT_GE(declared.size(), 50u);
 }
 
 }  // namespace

@@ -1,13 +1,15 @@
 #include "mem/dram/dram.h"
 
-#include "mem/dram/fr_fcfs_dram.h"
+#include "mem/dram/dram_backends.h"
 
 #include <algorithm>
 
 namespace rtusim {
 
 Dram::Dram(const sc_core::sc_module_name& name, const DramParams& p)
-    : Dram(name, std::make_unique<FrFcfsDram>(p)) {}
+    : Dram(name, DramBackends::dispatch(p.backend, [&]<class B>() -> std::unique_ptr<DramBackend> {
+        return std::make_unique<B>(p);
+      })) {}
 
 Dram::Dram(const sc_core::sc_module_name& name, std::unique_ptr<DramBackend> backend)
     : sc_module(name), target_socket("target_socket"), backend_(std::move(backend)) {
@@ -42,6 +44,7 @@ tlm::tlm_sync_enum Dram::nb_transport_fw(int id, tlm::tlm_generic_payload& trans
 }
 
 void Dram::schedule_wakeup() {
+  if (driven_by_call_) return;
   const uint64_t next = backend_->next_decision_ps();
   if (next == DramBackend::kNever) return;
   const uint64_t now = now_ps();
@@ -52,10 +55,14 @@ void Dram::schedule_wakeup() {
 }
 
 void Dram::decide() {
-  const uint64_t now = now_ps();
   wake_pending_ = false;
+  decide_at(now_ps());
+}
+
+void Dram::decide_at(uint64_t at_ps) {
+  const uint64_t now = now_ps();
   done_.clear();
-  backend_->advance(now, done_);
+  backend_->advance(at_ps, done_);
   for (const DramCompletion& c : done_) {
     const Pending p = pending_[c.id];
     free_ids_.push_back(c.id);

@@ -5,7 +5,8 @@
 // sc_time_stamp() + delay. A method wakes at each time a scheduling decision is due, lets the
 // backend decide, and sends BEGIN_RESP for every scheduled request with the delay to its
 // completion. The module is its own memory horizon: nothing happens here before the next
-// decision time.
+// decision time. Driven by call (CallDriven, mem_protocol.h), the method is not woken: the
+// initiator makes the decisions at the horizon itself, ahead of the kernel.
 #pragma once
 #include <memory>
 #include <vector>
@@ -20,11 +21,11 @@
 
 namespace rtusim {
 
-class Dram : public sc_core::sc_module, public MemoryHorizon {
+class Dram : public sc_core::sc_module, public MemoryHorizon, public CallDriven {
  public:
   tlm_utils::multi_passthrough_target_socket<Dram> target_socket;
 
-  // The FR-FCFS model of dram_params.h (validated; errors name "dram.*").
+  // The timing model named by p.backend (dram_backends.h), validated; errors name "dram.*".
   Dram(const sc_core::sc_module_name& name, const DramParams& p);
   // Another timing model behind the same socket.
   Dram(const sc_core::sc_module_name& name, std::unique_ptr<DramBackend> backend);
@@ -32,6 +33,13 @@ class Dram : public sc_core::sc_module, public MemoryHorizon {
   SC_HAS_PROCESS(Dram);
 
   uint64_t horizon_ps() const override { return backend_->next_decision_ps(); }
+  // A module is never a const object: the horizon view hands out the module to drive.
+  CallDriven* call_driven() const override { return const_cast<Dram*>(this); }
+  void set_driven_by_call(bool on) override {
+    driven_by_call_ = on;
+    if (!on) schedule_wakeup();  // its process takes over from here
+  }
+  void act_at_horizon(uint64_t at_ps) override { decide_at(at_ps); }
   const DramBackend& backend() const { return *backend_; }
 
  private:
@@ -42,7 +50,9 @@ class Dram : public sc_core::sc_module, public MemoryHorizon {
 
   tlm::tlm_sync_enum nb_transport_fw(int id, tlm::tlm_generic_payload& trans,
                                      tlm::tlm_phase& phase, sc_core::sc_time& delay);
-  void decide();
+  void decide();  // SC_METHOD: the decisions due at the kernel's time
+  // Makes the decisions due at `at_ps` (>= the kernel's time) and answers them.
+  void decide_at(uint64_t at_ps);
   void schedule_wakeup();
 
   std::unique_ptr<DramBackend> backend_;
@@ -50,6 +60,7 @@ class Dram : public sc_core::sc_module, public MemoryHorizon {
   std::vector<uint64_t> free_ids_;
   std::vector<DramCompletion> done_;  // scratch
   sc_core::sc_event wake_;
+  bool driven_by_call_ = false;  // the initiator calls act_at_horizon(): no wake-ups
   bool wake_pending_ = false;  // wake_ is notified for wake_ps_
   uint64_t wake_ps_ = 0;
 };

@@ -6,6 +6,7 @@
 // time calls advance(), which makes every decision due by then and reports each scheduled
 // request with the time its data transfer completes (a time in the future of `now_ps`).
 #pragma once
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -41,11 +42,24 @@ class DramBackend {
   virtual uint64_t next_decision_ps() const = 0;
   // Makes every decision due at or before `now_ps`; appends one completion per scheduled request.
   virtual void advance(uint64_t now_ps, std::vector<DramCompletion>& out) = 0;
-  // Writes `prefix`.row_hits, .row_misses, .row_conflicts, .row_hit_rate,
-  // .requests, .bytes.{nodes,lists,triangles,total}.
+  // Writes `prefix`.requests, .bytes.{nodes,lists,triangles,total} and the model's own keys
+  // (FR-FCFS: .row_hits, .row_misses, .row_conflicts, .row_hit_rate).
   virtual void write_stats(Stats& stats, const std::string& prefix) const = 0;
-  // Bytes transferred per stream (indexed by Stream).
-  virtual uint64_t bytes(Stream s) const = 0;
+  // Bytes transferred per stream.
+  uint64_t bytes(Stream s) const { return bytes_[static_cast<int>(s)]; }
+
+ protected:
+  // Counts a scheduled request's bytes.
+  void count(const DramRequest& r) {
+    ++requests_;
+    bytes_[static_cast<int>(r.stream)] += r.bytes;
+  }
+  // `prefix`.requests and .bytes.{nodes,lists,triangles,total}.
+  void write_request_stats(Stats& stats, const std::string& prefix) const;
+
+ private:
+  uint64_t requests_ = 0;
+  std::array<uint64_t, 3> bytes_{};
 };
 
 }  // namespace rtusim

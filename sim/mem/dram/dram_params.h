@@ -20,6 +20,7 @@
 namespace rtusim {
 
 struct DramParams {
+  std::string backend = "fr-fcfs";     // timing model: see dram_backends.h
   std::string standard = "DDR4-2400";  // preset the timings below came from
   uint32_t channels = 1;
   uint32_t banks = 16;          // per channel (one rank)
@@ -30,6 +31,7 @@ struct DramParams {
   double tRCD_ns = 14.16;       // ACT -> column command
   double tRP_ns = 14.16;        // PRE -> ACT
   double tCL_ns = 14.16;        // column read -> first data
+  double latency_ns = 28.32;    // backend "fixed": request -> first data (a row miss: tRCD + tCL)
 
   uint32_t burst_bytes() const { return bus_bytes * burst_length; }
   // Bus time of one burst, in picoseconds (rounded).
@@ -37,13 +39,19 @@ struct DramParams {
   uint64_t tRCD_ps() const;
   uint64_t tRP_ps() const;
   uint64_t tCL_ps() const;
+  uint64_t latency_ps() const;
 };
 
 // Names accepted by dram_preset().
 const std::vector<std::string>& known_dram_standards();
 // The timings and geometry of a named speed grade ("DDR4-2400", "DDR4-3200").
 DramParams dram_preset(const std::string& standard);
-// Throws InputError naming the key (`prefix` + ".channels", ...) on an inconsistent value.
+// Throws KeyError naming the key (`prefix` + ".channels", ...) on an inconsistent value.
 void validate(const DramParams& p, const std::string& prefix);
+
+class ConfigReader;
+// Reads the dram.* keys (declared in dram_params.cpp: the preset first, then each value) and
+// validates them; errors name the key and the `--set` or file line.
+DramParams read_dram_params(ConfigReader& r);
 
 }  // namespace rtusim

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <tuple>
 
-#include "cache/stream_caches.h"
 #include "util/stats.h"
 
 namespace rtusim {
@@ -79,8 +78,7 @@ void FrFcfsDram::advance(uint64_t now_ps, std::vector<DramCompletion>& out) {
       c.bus_free_ps = done;
       b.open_row = q.loc.row;
       b.ready_ps = column + bursts * tBurst_;
-      ++requests_;
-      bytes_[static_cast<int>(q.req.stream)] += q.req.bytes;
+      count(q.req);
       busy_until_ps_ = std::max(busy_until_ps_, done);
       out.push_back({q.req.id, done});
     }
@@ -90,17 +88,11 @@ void FrFcfsDram::advance(uint64_t now_ps, std::vector<DramCompletion>& out) {
 
 void FrFcfsDram::write_stats(Stats& stats, const std::string& prefix) const {
   const uint64_t rows = row_hits_ + row_misses_ + row_conflicts_;
-  stats.set(prefix + ".requests", requests_);
+  write_request_stats(stats, prefix);
   stats.set(prefix + ".row_hits", row_hits_);
   stats.set(prefix + ".row_misses", row_misses_);
   stats.set(prefix + ".row_conflicts", row_conflicts_);
   stats.set(prefix + ".row_hit_rate", rows ? double(row_hits_) / double(rows) : 0.0);
-  uint64_t total = 0;
-  for (int s = 0; s < 3; ++s) {
-    stats.set(prefix + ".bytes." + stream_stats_name(static_cast<Stream>(s)), bytes_[s]);
-    total += bytes_[s];
-  }
-  stats.set(prefix + ".bytes.total", total);
 }
 
 }  // namespace rtusim

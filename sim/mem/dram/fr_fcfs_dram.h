@@ -12,7 +12,6 @@
 // tRP + tRCD + tCL + tBurst (conflict). Not modelled: refresh, tRAS/tRC/tFAW/tRRD, bank groups,
 // the command bus, writes (the unit only reads).
 #pragma once
-#include <array>
 #include <vector>
 
 #include "mem/dram/dram_backend.h"
@@ -22,6 +21,8 @@ namespace rtusim {
 
 class FrFcfsDram final : public DramBackend {
  public:
+  static constexpr const char* kName = "fr-fcfs";
+
   // Validates `p` (keys named "dram.*").
   explicit FrFcfsDram(const DramParams& p);
 
@@ -29,7 +30,6 @@ class FrFcfsDram final : public DramBackend {
   uint64_t next_decision_ps() const override { return next_decision_ps_; }
   void advance(uint64_t now_ps, std::vector<DramCompletion>& out) override;
   void write_stats(Stats& stats, const std::string& prefix) const override;
-  uint64_t bytes(Stream s) const override { return bytes_[static_cast<int>(s)]; }
 
   struct Location {
     uint32_t channel, bank;
@@ -68,9 +68,8 @@ class FrFcfsDram final : public DramBackend {
   std::vector<Channel> channels_;
   uint64_t next_decision_ps_ = kNever;
   uint64_t seq_ = 0;
-  uint64_t row_hits_ = 0, row_misses_ = 0, row_conflicts_ = 0, requests_ = 0;
+  uint64_t row_hits_ = 0, row_misses_ = 0, row_conflicts_ = 0;
   uint64_t busy_until_ps_ = 0;
-  std::array<uint64_t, 3> bytes_{};
 };
 
 }  // namespace rtusim

@@ -11,7 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "sweep/sweep_plan.h"
+#include "app/sweep_plan.h"
 
 namespace rtusim {
 

@@ -1,4 +1,4 @@
-#include "sweep/sweep_runner.h"
+#include "app/sweep_runner.h"
 
 #include <fcntl.h>
 #include <spawn.h>

@@ -1,4 +1,6 @@
-// The validated parameters of one run: TOML file + overrides -> RunConfig, in one place.
+// The validated, immutable parameters of one run, one struct per config subtree:
+// TOML file + `--set` overrides -> declared keys (config/param.h) -> RunConfig, read and
+// validated once. The tiers' params are derived from it (fetch_caches(), cycle()).
 #pragma once
 #include <optional>
 #include <string>
@@ -6,11 +8,12 @@
 
 #include <toml++/toml.h>
 
-#include "config/config_reader.h"
-
 #include "cache/stream_caches.h"
 #include "kdtree/kd_tree.h"
+#include "mem/dram/dram_params.h"
+#include "mem/l1_params.h"
 #include "model/cycle_params.h"
+#include "model/unit_params.h"
 #include "scene/scene.h"
 #include "tracer/tracer_params.h"
 
@@ -29,16 +32,18 @@ struct ImageParams {
   bool heatmaps = true;   // image.heatmaps: per-layout DRAM-traffic heatmaps (and ODFL-DFL)
 };
 
-// Which fidelity tier runs the traversal.
-enum class Tier {
-  kFunctional,  // host traversal through the behavioural caches (no time)
-  kCycle,       // the SystemC traversal unit, L1 with MSHRs and DRAM timing
-  kRtl,         // the cycle tier with the Verilated RTL node L1
+struct LayoutParams {
+  std::vector<std::string> kinds;  // layout.kind, one or more
 };
 
+// The sim.* keys of the run itself (defaults: their declarations in tier.cpp, cycle_params.cpp).
 struct SimParams {
-  Tier tier = Tier::kFunctional;
-  std::string tier_name = "functional";
+  std::string tier;        // sim.tier: one of tier_names()
+  double clock_mhz = 0.0;  // sim.clock_mhz
+  std::string vcd_path;    // sim.vcd
+};
+
+struct ReportParams {
   double frames_per_second = 30.0;  // report.frames_per_second: for GB/s figures
 };
 
@@ -49,11 +54,19 @@ struct RunConfig {
   ImageParams image;
   TracerParams tracer;
   KdBuildParams kdtree;
-  std::vector<std::string> layouts;  // layout.kind, one or more
-  FetchCacheParams caches;           // l1.*, dcache.*
+  LayoutParams layout;
+  L1Config l1;      // l1.*: the node L1 (model rtl with sim.tier = rtl)
+  L1Config dcache;  // dcache.*: lists and triangles (enable = false: straight to DRAM)
+  UnitParams unit;  // sim.rays_in_flight/step_cycles/stack_depth, isect.*
+  DramParams dram;  // dram.*
   SimParams sim;
-  CycleParams cycle;                 // sim.*, isect.*, l1.*, dcache.*, dram.* of the cycle tier
-  toml::table effective;             // every key with the value used
+  ReportParams report;
+  toml::table effective;  // every key with the value used
+
+  // The functional tier's caches.
+  FetchCacheParams fetch_caches() const;
+  // The cycle tier's params (derived; validated when the config was read).
+  CycleParams cycle() const;
 };
 
 // Reads and validates `path` with `overrides` (KEY=VALUE). Throws InputError on bad input.

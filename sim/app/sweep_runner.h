@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "sweep/sweep_dir.h"
-#include "sweep/sweep_plan.h"
+#include "app/sweep_dir.h"
+#include "app/sweep_plan.h"
 
 namespace rtusim {
 

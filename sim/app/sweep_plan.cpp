@@ -1,4 +1,4 @@
-#include "sweep/sweep_plan.h"
+#include "app/sweep_plan.h"
 
 #include <unistd.h>
 
@@ -11,7 +11,8 @@
 
 #include <toml++/toml.h>
 
-#include "config/run_config.h"
+#include "app/run_config.h"
+#include "tier/functional_tier.h"
 #include "util/error.h"
 
 namespace rtusim {
@@ -295,9 +296,9 @@ SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string
   const bool layout_swept = std::any_of(dims.begin(), dims.end(), [](const Dim& d) {
     return std::count(d.keys.begin(), d.keys.end(), "layout.kind") != 0;
   });
-  if (!layout_swept && base_config.layouts.size() > 1) {
+  if (!layout_swept && base_config.layout.kinds.size() > 1) {
     Dim d{"layout.kind", {"layout.kind"}, {}, {}};
-    for (const auto& k : base_config.layouts) {
+    for (const auto& k : base_config.layout.kinds) {
       d.values.push_back({"'" + k + "'"});
       d.cells.push_back({k});
     }
@@ -360,12 +361,12 @@ SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string
     pt.overrides.insert(pt.overrides.end(), all.begin() + resolved_from, all.end());
     const RunConfig c = load(all, "[sweep] point " + std::to_string(index) + " (" +
                                       describe(plan.columns, pt.cells) + ")");
-    if (c.layouts.size() != 1)
+    if (c.layout.kinds.size() != 1)
       throw InputError(spec_path + ": [sweep] point " + std::to_string(index) +
                        ": layout.kind: a point has one layout (sweep layout.kind instead)");
-    pt.caches = c.caches;
-    pt.layout = c.layouts.front();
-    pt.timed = c.sim.tier != Tier::kFunctional;
+    pt.caches = c.fetch_caches();
+    pt.layout = c.layout.kinds.front();
+    pt.timed = c.sim.tier != FunctionalTier::kName;
     if (pt.timed) {
       pt.job = plan.jobs.size();
       plan.jobs.push_back(SweepJob{{index}, true});

@@ -1,4 +1,4 @@
-#include "sweep/sweep_dir.h"
+#include "app/sweep_dir.h"
 
 #include <unistd.h>
 

@@ -1,4 +1,4 @@
-#include "sweep/sweep_job.h"
+#include "app/sweep_job.h"
 
 #include <chrono>
 #include <map>
@@ -126,8 +126,8 @@ void run_functional(const SweepPlan& plan, const SweepJob& job, const std::strin
   for (size_t li = 0; li < kinds.size(); ++li) {
     // The distinct caches of this layout's points (the anchor's first, for the self-check).
     Configs node_cfgs, data_cfgs;
-    node_cfgs.add(p.config.caches.node_l1);
-    if (p.config.caches.data_cache) data_cfgs.add(*p.config.caches.data_cache);
+    node_cfgs.add(p.config.fetch_caches().node_l1);
+    if (p.config.fetch_caches().data_cache) data_cfgs.add(*p.config.fetch_caches().data_cache);
     std::vector<size_t> points;
     for (const size_t i : job.points)
       if (plan.points[i].layout == kinds[li]) {
@@ -147,7 +147,7 @@ void run_functional(const SweepPlan& plan, const SweepJob& job, const std::strin
     backend.flush();
 
     const Row base_row = one_layout_stats(ref, li);
-    const double fps = p.config.sim.frames_per_second;
+    const double fps = p.config.report.frames_per_second;
     const auto row_for = [&](const FetchCacheParams& c) {
       Row row = base_row;
       const CacheParams* dc = c.data_cache ? &*c.data_cache : nullptr;
@@ -157,7 +157,7 @@ void run_functional(const SweepPlan& plan, const SweepJob& job, const std::strin
       return row;
     };
     // Self-check: the one-pass counts of the reference cache are simulate()'s.
-    if (to_json_row(row_for(p.config.caches)) != to_json_row(base_row))
+    if (to_json_row(row_for(p.config.fetch_caches())) != to_json_row(base_row))
       throw std::logic_error("sweep: the one-pass cache counts of layout " + kinds[li] +
                              " differ from simulate()'s");
     for (const size_t i : points) rows[std::to_string(i)] = to_json_row(row_for(plan.points[i].caches));

@@ -1,0 +1,73 @@
+// `rtusim keys`: every declared config key (config/param.h) with type, default, range, unit and
+// description; text, json, or the README's markdown table.
+#include <algorithm>
+#include <cstdio>
+#include <iostream>
+
+#include <nlohmann/json.hpp>
+
+#include "app/commands.h"
+#include "config/param.h"
+#include "util/error.h"
+
+namespace rtusim {
+namespace {
+
+// Keys grouped by subtree in config-file order, alphabetical within a subtree.
+std::vector<const ParamInfo*> sorted_keys() {
+  static const std::vector<std::string> kSections = {
+      "scene", "camera", "image", "tracer", "kdtree", "layout", "l1",
+      "dcache", "sim", "isect", "dram", "sample", "report"};
+  auto rank = [](const std::string& key) {
+    const std::string section = key.substr(0, key.find('.'));
+    const auto it = std::find(kSections.begin(), kSections.end(), section);
+    return static_cast<size_t>(it - kSections.begin());
+  };
+  std::vector<const ParamInfo*> keys;
+  for (const ParamDecl* d : declared_params()) keys.push_back(&d->info());
+  std::sort(keys.begin(), keys.end(), [&](const ParamInfo* a, const ParamInfo* b) {
+    const size_t ra = rank(a->key), rb = rank(b->key);
+    return ra != rb ? ra < rb : a->key < b->key;
+  });
+  return keys;
+}
+
+std::string markdown_cell(std::string s) {
+  for (size_t i = 0; (i = s.find('|', i)) != std::string::npos; i += 2) s.replace(i, 1, "\\|");
+  return s;
+}
+
+}  // namespace
+
+int keys_command(const KeysOptions& opts) {
+  const std::vector<const ParamInfo*> keys = sorted_keys();
+  if (opts.format == "json") {
+    nlohmann::ordered_json out = nlohmann::ordered_json::array();
+    for (const ParamInfo* k : keys)
+      out.push_back({{"key", k->key}, {"type", param_type_name(k->type)},
+                     {"default", k->default_text}, {"range", k->range_text}, {"unit", k->unit},
+                     {"description", k->description}});
+    std::cout << out.dump(2) << "\n";
+  } else if (opts.format == "markdown") {
+    std::cout << "| key | type | default | range | unit | description |\n"
+              << "|---|---|---|---|---|---|\n";
+    for (const ParamInfo* k : keys)
+      std::cout << "| `" << k->key << "` | " << param_type_name(k->type) << " | "
+                << (k->default_text.empty() ? "" : "`" + markdown_cell(k->default_text) + "`")
+                << " | " << markdown_cell(k->range_text) << " | " << k->unit << " | "
+                << markdown_cell(k->description) << " |\n";
+  } else if (opts.format == "text") {
+    for (const ParamInfo* k : keys) {
+      std::printf("%-26s %-11s %s", k->key.c_str(), param_type_name(k->type),
+                  k->default_text.empty() ? "(none)" : k->default_text.c_str());
+      if (!k->range_text.empty()) std::printf("  [%s]", k->range_text.c_str());
+      if (!k->unit.empty()) std::printf("  %s", k->unit.c_str());
+      std::printf("\n%28s%s\n", "", k->description.c_str());
+    }
+  } else {
+    throw InputError("keys --format " + opts.format + ": expected text, json or markdown");
+  }
+  return 0;
+}
+
+}  // namespace rtusim

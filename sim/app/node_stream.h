@@ -1,0 +1,15 @@
+// The node-fetch address stream of a prepared run's frame (NodeStreamBackend), into a digest or
+// a trace file: what `rtusim regress` records and `rtusim trace` writes.
+#pragma once
+#include "app/pipeline.h"
+#include "trace/trace_format.h"
+
+namespace rtusim {
+
+// Traces the prepared run's frame over `image` and returns the node stream's count and
+// checksum (what `rtusim regress` records as trace.node_stream.*).
+TraceDigest node_stream_digest(const Prepared& p, const MemoryImage& image);
+// Traces the frame over `image` into `writer` (not finished).
+void write_node_stream(const Prepared& p, const MemoryImage& image, TraceWriter& writer);
+
+}  // namespace rtusim

@@ -1,0 +1,139 @@
+// The run config: the keys of scene, camera, image and report (the other subtrees are declared
+// by their parts), read in one pass.
+#include "app/run_config.h"
+
+#include <cstdlib>
+#include <filesystem>
+
+#include "config/param.h"
+#include "kdtree/sah_builder.h"
+#include "layout/layout.h"
+#include "tier/tier.h"
+#include "util/error.h"
+
+#ifndef RTUSIM_SOURCE_DIR
+#define RTUSIM_SOURCE_DIR "."
+#endif
+
+namespace rtusim {
+
+std::string scenes_dir() {
+  if (const char* env = std::getenv("RTUSIM_SCENES"); env && *env) return env;
+  return (std::filesystem::path(RTUSIM_SOURCE_DIR) / ".." / "shared" / "scenes")
+      .lexically_normal()
+      .string();
+}
+
+std::string resolve_scene_path(const std::string& path, const std::string& base_dir) {
+  if (path.rfind("builtin:", 0) == 0) return path;
+  for (const std::string prefix : {"$RTUSIM_SCENES", "${RTUSIM_SCENES}"})
+    if (path.rfind(prefix, 0) == 0) return scenes_dir() + path.substr(prefix.size());
+  const std::filesystem::path p(path);
+  if (p.is_absolute() || base_dir.empty()) return path;
+  return (std::filesystem::path(base_dir) / p).lexically_normal().string();
+}
+
+namespace {
+
+const ImageParams kImage;
+const ReportParams kReport;
+const StringParam kScenePath("scene.path", "builtin:cornell", {}, "path",
+                             "glTF file ($RTUSIM_SCENES/..., relative to the config) or "
+                             "builtin:NAME");
+const StringParam kSceneCamera("scene.camera", "", {}, "",
+                               "glTF camera node name (\"\": camera.*, else the first camera)");
+const Vec3Param kEye("camera.eye", "", "scene units", "pinhole camera position (with target)");
+const Vec3Param kTarget("camera.target", "", "scene units", "point the camera looks at");
+const Vec3Param kUp("camera.up", "[0.0, 1.0, 0.0]", "", "camera up direction");
+const FloatParam kVfov("camera.vfov", 45.0, 1e-3, 179.0, "degrees", "vertical field of view");
+const IntParam kWidth("image.width", kImage.width, 1, 16384, "pixels", "image width");
+const IntParam kHeight("image.height", kImage.height, 1, 16384, "pixels", "image height");
+const BoolParam kPng("image.png", kImage.write_png, "write image.png, the rendered frame");
+const BoolParam kHeatmaps("image.heatmaps", kImage.heatmaps,
+                          "write per-layout DRAM-traffic heatmaps (functional tier)");
+const FloatParam kFramesPerSecond("report.frames_per_second", kReport.frames_per_second, 1e-6,
+                                  1e6, "frames/s", "frame rate of the GB/s figures");
+
+}  // namespace
+
+FetchCacheParams RunConfig::fetch_caches() const {
+  FetchCacheParams p;
+  p.node_l1 = l1.params.cache;
+  if (dcache.enable) p.data_cache = dcache.params.cache;
+  return p;
+}
+
+CycleParams RunConfig::cycle() const {
+  return make_cycle_params(sim.clock_mhz, unit, l1, dcache, dram, sim.vcd_path);
+}
+
+RunConfig load_run_config(const std::string& path, const std::vector<std::string>& overrides) {
+  ConfigReader r = ConfigReader::from_file(path);
+  for (const auto& o : overrides) r.apply_override(o);
+
+  RunConfig c;
+  c.origin = path;
+
+  // [scene]
+  c.scene.path = kScenePath.read(r);
+  c.scene.resolved = resolve_scene_path(c.scene.path, r.base_dir());
+  c.scene.camera = kSceneCamera.read(r);
+
+  // [camera]: an explicit pinhole camera (all of eye, target; up and vfov default)
+  const auto eye = kEye.read(r), target = kTarget.read(r), up = kUp.read(r);
+  const bool any_camera = eye || target || up || r.has(kVfov.key());
+  if (any_camera) {
+    const double vfov = kVfov.read(r);
+    if (!eye || !target) {
+      throw InputError(path + ": camera: camera.eye and camera.target are both required when "
+                       "any camera.* key is given");
+    }
+    if (!c.scene.camera.empty())
+      throw InputError(path + ": camera: give scene.camera or camera.*, not both");
+    c.camera = CameraDesc{"config", *eye, *target, up.value_or(glm::vec3(0, 1, 0)),
+                          static_cast<float>(vfov)};
+  }
+
+  // [image]
+  c.image.width = static_cast<int>(kWidth.read(r));
+  c.image.height = static_cast<int>(kHeight.read(r));
+  c.image.write_png = kPng.read(r);
+  c.image.heatmaps = kHeatmaps.read(r);
+
+  // Each part's subtree, read and checked by the part that declares it.
+  c.tracer = read_tracer_params(r);
+  c.kdtree = read_kd_build_params(r);
+  c.layout.kinds = read_layout_kinds(r);
+  c.l1 = read_node_l1_config(r);
+  c.dcache = read_dcache_config(r);
+
+  // [sim], [report]: the tier; the cycle tier's keys are read whatever the tier, so they are
+  // validated and in the effective config.
+  c.sim.tier = read_tier_name(r);
+  c.report.frames_per_second = kFramesPerSecond.read(r);
+  c.sim.clock_mhz = read_clock_mhz(r);
+  c.unit = read_unit_params(r);
+  c.sim.vcd_path = read_vcd_path(r);
+  c.dram = read_dram_params(r);
+  if (c.sim.tier == "rtl") {
+    // The rtl tier is the cycle tier with the Verilated node L1.
+    if (r.has("l1.model") && c.l1.model != "rtl")
+      r.fail(KeyError({"l1.model", "sim.tier"}, "sim.tier = \"rtl\" uses the RTL L1, not \"" +
+                                                    c.l1.model + "\""));
+    c.l1.model = "rtl";
+  }
+  if (c.l1.model == "rtl" && c.sim.tier == "functional")
+    r.fail(KeyError({"l1.model", "sim.tier"}, "\"rtl\" needs sim.tier = \"cycle\" or \"rtl\""));
+  // The checks across subtrees, once.
+  try {
+    validate(c.cycle());
+  } catch (const KeyError& e) {
+    r.fail(e);
+  }
+
+  r.reject_unknown_keys();
+  c.effective = r.effective();
+  return c;
+}
+
+}  // namespace rtusim

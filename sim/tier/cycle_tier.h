@@ -1,0 +1,28 @@
+// The cycle tier: the SystemC traversal unit, L1 with MSHRs and DRAM timing (CycleBackend).
+// The rtl tier is the same with the Verilated node L1 (the config sets l1.model = rtl).
+#pragma once
+#include "model/cycle_backend.h"
+#include "tier/tier.h"
+
+namespace rtusim {
+
+class CycleTier : public TierRun {
+ public:
+  static constexpr const char* kName = "cycle";
+  CycleTier(const MemoryImage& image, const TierConfig& config) : backend_(image, config.cycle) {}
+
+  TraceBackend& backend() override { return backend_; }
+  void write_stats(Stats& stats) const override { backend_.write_stats(stats); }
+  void finish() override { backend_.finish(); }
+
+ private:
+  CycleBackend backend_;
+};
+
+class RtlTier final : public CycleTier {
+ public:
+  static constexpr const char* kName = "rtl";
+  using CycleTier::CycleTier;
+};
+
+}  // namespace rtusim

@@ -1,0 +1,25 @@
+// Tier construction by name, and the sim.tier key.
+#include "tier/tier.h"
+
+#include "config/param.h"
+#include "tier/tiers.h"
+
+namespace rtusim {
+namespace {
+const StringParam kTier("sim.tier", "functional", Tiers::names(), "",
+                        "fidelity: functional (caches, no time), cycle (SystemC unit, L1 "
+                        "MSHRs, DRAM timing), rtl (cycle with the Verilated node L1)");
+}  // namespace
+
+std::unique_ptr<TierRun> make_tier(const std::string& name, const MemoryImage& image,
+                                   const TierConfig& config) {
+  return Tiers::dispatch(name, [&]<class T>() -> std::unique_ptr<TierRun> {
+    return std::make_unique<T>(image, config);
+  });
+}
+
+std::vector<std::string> tier_names() { return Tiers::names(); }
+
+std::string read_tier_name(ConfigReader& r) { return kTier.read(r); }
+
+}  // namespace rtusim

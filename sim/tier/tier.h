@@ -1,0 +1,48 @@
+// The fidelity-tier seam (sim.tier): a tier is made by name for one layout's memory image,
+// takes the tracer's ray batches through backend(), and writes its own stats (and, when it
+// attributes traffic to pixels, the DRAM bytes of each pixel). Tiers are registered in tiers.h;
+// app/simulation.cpp only orchestrates.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cache/stream_caches.h"
+#include "layout/memory_image.h"
+#include "model/cycle_params.h"
+#include "tracer/ray_batch.h"
+
+namespace rtusim {
+
+class ConfigReader;
+class Stats;
+
+// What a tier is made from: every tier's params (each uses its own).
+struct TierConfig {
+  FetchCacheParams caches;  // functional: the behavioural caches
+  CycleParams cycle;        // cycle, rtl: the SystemC top (derived, validated)
+  uint32_t pixels = 0;      // image width x height
+};
+
+class TierRun {
+ public:
+  virtual ~TierRun() = default;
+  // Where the tracer sends its ray batches.
+  virtual TraceBackend& backend() = 0;
+  // The tier's keys: l1.*, dram.bytes.*, traversal.node_fetches, ... (sim.cycles when timed).
+  virtual void write_stats(Stats& stats) const = 0;
+  // DRAM bytes of each pixel's ray tree; empty when the tier does not attribute them.
+  virtual std::vector<uint64_t> pixel_dram_bytes() const { return {}; }
+  // Completes the outputs of a run that went well (VCD files).
+  virtual void finish() {}
+};
+
+// The tier named `name` (one of tier_names()) over `image`, which must outlive it.
+std::unique_ptr<TierRun> make_tier(const std::string& name, const MemoryImage& image,
+                                   const TierConfig& config);
+std::vector<std::string> tier_names();
+// Reads sim.tier (declared in tier.cpp).
+std::string read_tier_name(ConfigReader& r);
+
+}  // namespace rtusim
