@@ -152,45 +152,6 @@ std::vector<Dim> read_dims(const toml::table& sweep, const std::string& spec,
   return dims;
 }
 
-// Splits KEY=VALUE.
-std::pair<std::string, std::string> split_assignment(const std::string& a) {
-  const auto eq = a.find('=');
-  if (eq == std::string::npos) return {a, ""};
-  return {a.substr(0, eq), a.substr(eq + 1)};
-}
-
-bool is_full(const std::string& text) {
-  return text == "full" || text == "'full'" || text == "\"full\"";
-}
-
-// Replaces PREFIX.assoc = "full" by the way count of one set: PREFIX.size / PREFIX.line of the
-// same overrides, else of the base config.
-void resolve_full(std::vector<std::string>& overrides, const toml::table& base_effective) {
-  for (const std::string prefix : {"l1", "dcache"}) {
-    const auto last = [&](const std::string& key) -> std::optional<std::string> {
-      std::optional<std::string> v;
-      for (const auto& o : overrides)
-        if (auto [k, t] = split_assignment(o); k == key) v = t;
-      return v;
-    };
-    const auto assoc = last(prefix + ".assoc");
-    if (!assoc || !is_full(*assoc)) continue;
-    const auto number = [&](const std::string& name) -> int64_t {
-      if (auto t = last(prefix + "." + name)) {
-        try {
-          return std::stoll(*t);
-        } catch (const std::exception&) {
-          return 0;  // not a number: load_run_config names the bad value
-        }
-      }
-      return base_effective[prefix][name].value_or<int64_t>(0);
-    };
-    const int64_t size = number("size"), line = number("line");
-    const int64_t ways = line > 0 && size >= line ? size / line : 1;
-    overrides.push_back(prefix + ".assoc=" + std::to_string(ways));
-  }
-}
-
 // The base config in a temporary file, for validating points before the output directory exists.
 class TempFile {
  public:
@@ -280,17 +241,7 @@ SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string
       throw InputError(spec_path + ": " + what + ": " + inner_message(e.what(), base_file.path()));
     }
   };
-  // The base config; "full" in the --set resolved against the file's own size and line.
-  RunConfig base_config;
-  {
-    toml::table sizes;
-    for (const std::string prefix : {"l1", "dcache"})
-      sizes.insert(prefix, toml::table{{"size", base[prefix]["size"].value_or<int64_t>(8192)},
-                                       {"line", base[prefix]["line"].value_or<int64_t>(64)}});
-    std::vector<std::string> base_sets = sets;
-    resolve_full(base_sets, sizes);
-    base_config = load(base_sets, "base config");
-  }
+  const RunConfig base_config = load(sets, "base config");
 
   // Several layouts in the base config and none swept: each is a point of its own.
   const bool layout_swept = std::any_of(dims.begin(), dims.end(), [](const Dim& d) {
@@ -326,7 +277,6 @@ SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string
       std::vector<std::string> o = sets;
       for (size_t k = 0; k < d.keys.size(); ++k)
         if (!d.values[e][k].empty()) o.push_back(d.keys[k] + "=" + d.values[e][k]);
-      resolve_full(o, base_config.effective);
       const std::string what = d.name.rfind("group.", 0) == 0
                                    ? "[sweep." + d.name + "] " + describe(d.keys, d.cells[e])
                                    : "[sweep] " + d.keys[0] + " = " + d.cells[e][0];
@@ -353,12 +303,8 @@ SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string
         pt.overrides.push_back(dims[i].keys[k] + "=" + v);
         if (!is_cache_key(dims[i].keys[k])) job_key += pt.overrides.back() + "\n";
       }
-    // "full" of the point or of the --set, with the point's size and line.
     std::vector<std::string> all = sets;
     all.insert(all.end(), pt.overrides.begin(), pt.overrides.end());
-    const size_t resolved_from = all.size();
-    resolve_full(all, base_config.effective);
-    pt.overrides.insert(pt.overrides.end(), all.begin() + resolved_from, all.end());
     const RunConfig c = load(all, "[sweep] point " + std::to_string(index) + " (" +
                                       describe(plan.columns, pt.cells) + ")");
     if (c.layout.kinds.size() != 1)

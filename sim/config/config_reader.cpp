@@ -161,6 +161,18 @@ int64_t ConfigReader::get_int(const std::string& key, int64_t fallback, int64_t 
   return v;
 }
 
+std::optional<int64_t> ConfigReader::get_int_or_word(const std::string& key, int64_t fallback,
+                                                     int64_t min, int64_t max,
+                                                     const std::string& word) {
+  if (const toml::node* n = find(key); n && n->is_string()) {
+    if (n->as_string()->get() != word)
+      fail(key, "expected an integer or \"" + word + "\", got \"" + n->as_string()->get() + "\"");
+    record(key, toml::value<std::string>(word));
+    return std::nullopt;
+  }
+  return get_int(key, fallback, min, max);
+}
+
 double ConfigReader::get_float(const std::string& key, double fallback, double min, double max) {
   double v = fallback;
   if (const toml::node* n = find(key)) {

@@ -2,8 +2,8 @@
 
 usage: sweep_check.py RTUSIM SWEEP_DIR EVERY_NTH SWEPT_KEY,SWEPT_KEY,...
 Runs `rtusim run SWEEP_DIR/base.toml --set KEY=VALUE ...` for every EVERY_NTH point (and the
-last) and compares every stats.json key that is not a timing with the row's cell. "full"
-associativity becomes size / line here, independently of the sweep's own translation.
+last) and compares every stats.json key that is not a timing with the row's cell.
+"full" goes to rtusim run as it is (the config reads it natively).
 """
 import csv
 import json
@@ -41,12 +41,6 @@ def main():
     for i in sorted(set(picked)):
         row = rows[i]
         over = {k: row[k] for k in swept if row[k] != ""}
-        for prefix in ("l1", "dcache"):
-            if over.get(prefix + ".assoc") == "full":
-                base = {"l1": (8192, 64), "dcache": (8192, 64)}[prefix]
-                size = int(over.get(prefix + ".size", base[0]))
-                line = int(over.get(prefix + ".line", base[1]))
-                over[prefix + ".assoc"] = str(size // line)
         with tempfile.TemporaryDirectory() as out:
             cmd = [rtusim, "run", str(sweep_dir / "base.toml"), "--out", out]
             for s in sets + [f"{k}={v}" for k, v in over.items()]:
