@@ -10,7 +10,6 @@
 #include "tier/tier.h"
 
 namespace rtusim {
-namespace {
 
 void add_run_stats(const Prepared& p, const FrameResult& frame, Stats& s) {
   const KdTreeReport& r = p.tree.report;
@@ -37,7 +36,6 @@ void add_run_stats(const Prepared& p, const FrameResult& frame, Stats& s) {
   s.set("report.frames_per_second", p.config.report.frames_per_second);
 }
 
-// Keys of a layout's memory image.
 void add_image_stats(const MemoryImage& image, Stats& s) {
   s.set("layout.kind", image.layout);
   s.set("tree.bytes", image.nodes.size_bytes);
@@ -47,7 +45,6 @@ void add_image_stats(const MemoryImage& image, Stats& s) {
   s.set("mem.image.bytes", image.bytes.size());
 }
 
-// Figures derived from a tier's counters, the same for every tier.
 void add_report_stats(const FrameResult& frame, double fps, double seconds, Stats& s) {
   const double rays = static_cast<double>(std::max<uint64_t>(1, frame.rays_total()));
   const double node_bytes = s.at("dram.bytes.nodes").get<double>();
@@ -61,6 +58,8 @@ void add_report_stats(const FrameResult& frame, double fps, double seconds, Stat
   s.set("trace.seconds", seconds);
   s.set("trace.rays_per_second", seconds > 0 ? rays / seconds : 0.0);
 }
+
+namespace {
 
 // Traces the frame through `backend` (with a progress bar) and times it.
 FrameResult render_timed(const Prepared& p, TraceBackend& backend, const std::string& label,

@@ -1,10 +1,10 @@
 // Runs one job of a sweep plan and returns its rows: the stats of each of its points, exactly
 // the stats.json keys `rtusim run` writes for that point, timing keys left out.
-//  - A functional job prepares the scene and tree once (every layout of the job), runs the
-//    first point through simulate() (the reference, and the source of every key that does not
-//    depend on the cache), then traces the frame once per layout through a SweepBackend that
-//    evaluates every cache configuration of the job in the same pass. The first point's cache
-//    counts from that pass must equal simulate()'s, or the job fails as an internal error.
+//  - A functional job prepares the scene and tree once (every layout of the job) and traces the
+//    frame once per layout through a SweepBackend that evaluates every cache configuration of
+//    the job in that pass; each point's keys are written by simulate()'s and the functional
+//    tier's own stats code (add_run_stats, FunctionalTier::write_stats, add_report_stats) from
+//    that pass's counters. tests/cli/sweep.sh checks rows against `rtusim run`.
 //  - A timed job (cycle, rtl) is one point through simulate().
 #pragma once
 #include <string>

@@ -17,10 +17,7 @@ struct SweepBackend::Sink {
       if (b.node_chunk_.size() == kChunkFetches) b.flush();
       return;
     }
-    if (bytes != 0) {
-      constexpr uint64_t burst = FetchCache::kDramBurstBytes;
-      b.bursts_[tag] += (addr + bytes - 1) / burst - addr / burst + 1;
-    }
+    if (bytes != 0) b.bursts_[tag] += FetchCache::dram_bursts(addr, bytes);
     if (b.data_) {
       b.data_chunk_.push_back({addr, bytes, static_cast<uint32_t>(tag)});
       if (b.data_chunk_.size() == kChunkFetches) b.flush();
