@@ -88,9 +88,9 @@ void run_functional(const SweepPlan& plan, const SweepJob& job, const std::strin
       }
     // One traced frame: every cache of the layout evaluated as the fetches come.
     const MemoryImage& image = p.images[li];
-    CacheSweep nodes(node_cfgs.list, image.bytes.size());
+    CacheSweep nodes(node_cfgs.list, image.bytes.size(), threads);
     std::optional<CacheSweep> data;
-    if (!data_cfgs.list.empty()) data.emplace(data_cfgs.list, image.bytes.size());
+    if (!data_cfgs.list.empty()) data.emplace(data_cfgs.list, image.bytes.size(), threads);
     nodes.set_threads(threads);
     if (data) data->set_threads(threads);
     SweepBackend backend(image, nodes, data ? &*data : nullptr);

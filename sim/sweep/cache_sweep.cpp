@@ -23,7 +23,13 @@ struct CacheSweep::LineGroup {
   std::vector<PerTag> mru_from;  // accesses at distance 0 in engine e and every later engine
 
   void feed(std::span<const SweepFetch> fetches) {
-    for (const SweepFetch& f : fetches) {
+    constexpr size_t kAhead = 4;  // fetches between a line's prefetch and its access
+    for (size_t i = 0; i < fetches.size(); ++i) {
+      if (i + kAhead < fetches.size()) {
+        const uint64_t soon = fetches[i + kAhead].addr >> shift;
+        if (full) full->prefetch(static_cast<uint32_t>(soon));
+      }
+      const SweepFetch& f = fetches[i];
       if (f.bytes == 0) continue;
       const uint64_t first = f.addr >> shift, last = (f.addr + f.bytes - 1) >> shift;
       for (uint64_t line = first; line <= last; ++line) {
@@ -59,7 +65,8 @@ struct CacheSweep::LineGroup {
   }
 };
 
-CacheSweep::CacheSweep(const std::vector<CacheParams>& configs, uint64_t image_bytes) {
+CacheSweep::CacheSweep(const std::vector<CacheParams>& configs, uint64_t image_bytes,
+                       unsigned parts) {
   // Group the LRU configurations by line size, then by set count.
   std::map<uint32_t, std::map<uint64_t, uint32_t>> depth;  // line -> sets -> most ways
   std::map<uint32_t, std::set<uint64_t>> full;             // line -> one-set capacities
@@ -72,32 +79,56 @@ CacheSweep::CacheSweep(const std::vector<CacheParams>& configs, uint64_t image_b
       d = std::max(d, c.assoc);
     }
   }
-  std::map<uint32_t, int> group_of_line;
+  // Each line size's engines, split into up to `parts` groups of about equal work (the one-set
+  // stack counted as two set counts). A group walks its own set counts with its own early exit,
+  // so the split changes the work, never the counts.
+  struct Part {
+    int group;
+    std::set<uint64_t> sets;
+  };
+  std::map<uint32_t, std::vector<Part>> parts_of_line;
   for (const CacheParams& c : configs) {
-    if (c.policy != "lru" || group_of_line.count(c.line_bytes)) continue;
-    auto g = std::make_unique<LineGroup>();
-    g->shift = static_cast<uint32_t>(std::countr_zero(c.line_bytes));
-    if ((image_bytes >> g->shift) >= UINT32_MAX - 1)
+    if (c.policy != "lru" || parts_of_line.count(c.line_bytes)) continue;
+    const uint32_t shift = static_cast<uint32_t>(std::countr_zero(c.line_bytes));
+    if ((image_bytes >> shift) >= UINT32_MAX - 1)
       throw std::logic_error("CacheSweep: line numbers must fit 32 bits");
-    if (auto it = full.find(c.line_bytes); it != full.end()) {
-      g->full_capacities.assign(it->second.begin(), it->second.end());
-      g->full = std::make_unique<FullyAssocLruStack>(g->full_capacities,
-                                                     (image_bytes >> g->shift) + 1);
-      g->full_hist.assign(g->full_capacities.size() + 1, PerTag{});
+    const auto full_it = full.find(c.line_bytes);
+    const auto& set_depths = depth[c.line_bytes];
+    const size_t weight = set_depths.size() + (full_it != full.end() ? 2 : 0);
+    const size_t n = std::max<size_t>(1, std::min<size_t>(std::max(1u, parts), weight));
+    auto next_sets = set_depths.begin();
+    size_t done = 0;
+    for (size_t part = 0; part < n; ++part) {
+      auto g = std::make_unique<LineGroup>();
+      g->shift = shift;
+      if (part == 0 && full_it != full.end()) {
+        g->full_capacities.assign(full_it->second.begin(), full_it->second.end());
+        g->full = std::make_unique<FullyAssocLruStack>(g->full_capacities,
+                                                       (image_bytes >> shift) + 1);
+        g->full_hist.assign(g->full_capacities.size() + 1, PerTag{});
+        done += 2;
+      }
+      Part p{static_cast<int>(groups_.size()), {}};
+      const size_t until = weight * (part + 1) / n;
+      for (; next_sets != set_depths.end() && (done < until || part + 1 == n); ++next_sets, ++done) {
+        const auto& [sets, ways] = *next_sets;
+        g->set_stacks.emplace_back(static_cast<uint32_t>(sets), ways);
+        g->set_hist.emplace_back(ways + 1, PerTag{});
+        g->mru_from.emplace_back();
+        p.sets.insert(sets);
+      }
+      parts_of_line[c.line_bytes].push_back(std::move(p));
+      groups_.push_back(std::move(g));
     }
-    for (const auto& [sets, ways] : depth[c.line_bytes]) {
-      g->set_stacks.emplace_back(static_cast<uint32_t>(sets), ways);
-      g->set_hist.emplace_back(ways + 1, PerTag{});
-      g->mru_from.emplace_back();
-    }
-    group_of_line[c.line_bytes] = static_cast<int>(groups_.size());
-    groups_.push_back(std::move(g));
   }
   // Where each configuration's counts come from.
   for (const CacheParams& c : configs) {
     Where w;
     if (c.policy == "lru") {
-      w.line_group = group_of_line.at(c.line_bytes);
+      const std::vector<Part>& line_parts = parts_of_line.at(c.line_bytes);
+      w.line_group = line_parts.front().group;
+      for (const Part& p : line_parts)
+        if (p.sets.count(c.sets())) w.line_group = p.group;
       const LineGroup& g = *groups_[w.line_group];
       if (c.sets() == 1) {
         const auto& caps = g.full_capacities;

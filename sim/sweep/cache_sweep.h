@@ -1,6 +1,7 @@
 // Many cache configurations over one fetch stream in one pass: the sweep's memory side.
 // LRU configurations of one line size share a stack-distance pass (SetLruStacks per set count,
-// FullyAssocLruStack for the one-set caches); FIFO, tree-PLRU and random are simulated side by
+// FullyAssocLruStack for the one-set caches; the set counts of a line size may be split into
+// parts walked by different threads); FIFO, tree-PLRU and random are simulated side by
 // side, each in its own cache, over the same decoded stream. Every configuration counts exactly
 // what FetchCache counts for that cache: a fetch touching k lines is k accesses, in order.
 #pragma once
@@ -29,8 +30,10 @@ class CacheSweep {
   static constexpr int kTags = 3;
   using PerTag = std::array<uint64_t, kTags>;
 
-  // `configs` are valid (validate()); `image_bytes` bounds every address.
-  CacheSweep(const std::vector<CacheParams>& configs, uint64_t image_bytes);
+  // `configs` are valid (validate()); `image_bytes` bounds every address. The LRU set counts
+  // of each line size are split into up to `parts` groups of about equal work (one per thread
+  // that will feed it; one part walks fewest stacks).
+  CacheSweep(const std::vector<CacheParams>& configs, uint64_t image_bytes, unsigned parts = 1);
   ~CacheSweep();
 
   // Feeds a chunk of fetches, in order, to every configuration. The line-size groups and the
@@ -46,7 +49,7 @@ class CacheSweep {
   size_t size() const { return where_.size(); }
 
  private:
-  struct LineGroup;  // the LRU engines of one line size
+  struct LineGroup;  // LRU engines of one line size (all its set counts, or a part of them)
   struct Where {     // how configuration i is evaluated
     int line_group = -1;    // LRU: index into groups_
     int engine = -1;        // LRU: -1 = the fully associative stack, else set_stacks index

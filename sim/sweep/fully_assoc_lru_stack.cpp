@@ -9,9 +9,7 @@ FullyAssocLruStack::FullyAssocLruStack(std::vector<uint64_t> capacities_lines, u
       sentinel_(static_cast<uint32_t>(lines)),
       count_(capacities_lines.size(), 0),
       tail_(capacities_lines.size(), 0),
-      prev_(lines + 1),
-      next_(lines + 1),
-      region_(lines + 1, static_cast<uint32_t>(capacities_lines.size())) {
+      node_(lines + 1, Node{0, 0, static_cast<uint32_t>(capacities_lines.size()), 0}) {
   if (lines >= UINT32_MAX) throw std::logic_error("FullyAssocLruStack: too many lines");
   uint64_t below = 0;
   for (const uint64_t c : capacities_lines) {
@@ -19,7 +17,7 @@ FullyAssocLruStack::FullyAssocLruStack(std::vector<uint64_t> capacities_lines, u
     capacity_.push_back(c - below);
     below = c;
   }
-  prev_[sentinel_] = next_[sentinel_] = sentinel_;
+  node_[sentinel_].prev = node_[sentinel_].next = sentinel_;
 }
 
 }  // namespace rtusim

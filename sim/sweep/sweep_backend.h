@@ -26,7 +26,7 @@ class SweepBackend final : public TraceBackend {
   uint64_t direct_bursts(Stream s) const { return bursts_[static_cast<int>(s)]; }
 
  private:
-  static constexpr size_t kChunkFetches = 1 << 16;
+  static constexpr size_t kChunkFetches = 1 << 18;
   struct Sink;
 
   const MemoryImage& image_;

@@ -47,10 +47,13 @@ TEST(CacheSweep, EqualsOneCachePerConfiguration) {
           configs.push_back(c);
         }
   const auto stream = make_stream(image_bytes, 200000, 1);
-  CacheSweep sweep(configs, image_bytes);
+  CacheSweep sweep(configs, image_bytes, 3);  // set counts split in three parts per line
   sweep.set_threads(3);  // the groups and side caches shared out: the same counts
-  for (size_t at = 0; at < stream.size(); at += 777)  // uneven chunks
+  CacheSweep whole(configs, image_bytes);  // one part per line: every set count in one walk
+  for (size_t at = 0; at < stream.size(); at += 777) {  // uneven chunks
     sweep.feed(std::span(stream).subspan(at, std::min<size_t>(777, stream.size() - at)));
+    whole.feed(std::span(stream).subspan(at, std::min<size_t>(777, stream.size() - at)));
+  }
 
   for (size_t i = 0; i < configs.size(); ++i) {
     SetAssocCache cache(configs[i]);
@@ -65,6 +68,8 @@ TEST(CacheSweep, EqualsOneCachePerConfiguration) {
                  "-way " + std::to_string(c.line_bytes) + " B lines");
     EXPECT_EQ(sweep.accesses(i), acc);
     EXPECT_EQ(sweep.misses(i), miss);
+    EXPECT_EQ(whole.accesses(i), acc);
+    EXPECT_EQ(whole.misses(i), miss);
     EXPECT_GT(miss[0] + miss[1] + miss[2], 0u);
   }
 }
