@@ -12,6 +12,7 @@
 #include <toml++/toml.h>
 
 #include "app/run_config.h"
+#include "config/config_reader.h"
 #include "tier/functional_tier.h"
 #include "util/error.h"
 
@@ -66,16 +67,6 @@ std::string type_name(const toml::node& n) {
   return "a single value";
 }
 
-// Dotted leaves of a table (arrays are leaves).
-void leaves(const toml::table& t, const std::string& prefix,
-            std::vector<std::pair<std::string, const toml::node*>>& out) {
-  for (const auto& [k, v] : t) {
-    const std::string name = prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
-    if (const auto* sub = v.as_table()) leaves(*sub, name, out);
-    else out.emplace_back(name, &v);
-  }
-}
-
 // A relative scene path becomes absolute against the spec's directory (the base config and the
 // runs live in the output directory).
 std::string absolute_scene_path(const std::string& path, const fs::path& spec_dir) {
@@ -97,7 +88,7 @@ std::vector<Dim> read_dims(const toml::table& sweep, const std::string& spec,
   std::vector<std::pair<std::string, const toml::node*>> keys;
   for (const auto& [k, v] : sweep) {
     if (k.str() != "group") {
-      if (const auto* t = v.as_table()) leaves(*t, std::string(k.str()), keys);
+      if (const auto* t = v.as_table()) collect_leaves(*t, std::string(k.str()), keys);
       else keys.emplace_back(std::string(k.str()), &v);
       continue;
     }
@@ -116,7 +107,7 @@ std::vector<Dim> read_dims(const toml::table& sweep, const std::string& spec,
       std::set<std::string> all;
       for (const auto& e : *arr) {
         per_entry.emplace_back();
-        leaves(*e.as_table(), "", per_entry.back());
+        collect_leaves(*e.as_table(), "", per_entry.back());
         if (per_entry.back().empty()) throw InputError(where + ": an entry sets no key");
         for (const auto& [key, node] : per_entry.back()) all.insert(key);
       }

@@ -38,7 +38,8 @@ std::string join(const std::vector<std::string>& v) {
   return out;
 }
 
-// Collects the dotted names of every leaf value, in source order.
+}  // namespace
+
 void collect_leaves(const toml::table& t, const std::string& prefix,
                     std::vector<std::pair<std::string, const toml::node*>>& out) {
   for (const auto& [k, v] : t) {
@@ -47,8 +48,6 @@ void collect_leaves(const toml::table& t, const std::string& prefix,
     else out.emplace_back(name, &v);
   }
 }
-
-}  // namespace
 
 ConfigReader ConfigReader::from_string(const std::string& text, const std::string& origin) {
   ConfigReader r;

@@ -16,6 +16,10 @@
 
 namespace rtusim {
 
+// Collects the dotted names of every leaf value of `t` (arrays are leaves), in source order.
+void collect_leaves(const toml::table& t, const std::string& prefix,
+                    std::vector<std::pair<std::string, const toml::node*>>& out);
+
 class ConfigReader {
  public:
   // Parses `path` (throws InputError on a missing file or a TOML syntax error).
