@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+namespace CLI { class App; }
+
 namespace rtusim {
 
 struct RunOptions {
@@ -39,5 +41,7 @@ int hits_command(const RunOptions& opts);
 int trace_command(const TraceOptions& opts);
 int replay_command(const ReplayOptions& opts);
 int regress_command(const RegressOptions& opts);
+CLI::App* add_sweep_subcommand(CLI::App& app);  // `sweep`: options kept by sweep_command.cpp
+int sweep_command();
 
 }  // namespace rtusim

@@ -59,6 +59,7 @@ int main(int argc, char** argv) {
   regress->add_flag("--update", regress_opts.update,
                     "Rewrite every expected.json from this build (scripts/update_references.sh)");
 
+  auto* sweep = add_sweep_subcommand(app);
   KeysOptions keys_opts;
   auto* keys = app.add_subcommand("keys", "List every config key: type, default, range, unit");
   keys->add_option("--format", keys_opts.format, "text (default), json, or markdown (README table)")
@@ -100,6 +101,7 @@ int main(int argc, char** argv) {
     if (*trace) return trace_command(trace_opts);
     if (*replay) return replay_command(replay_opts);
     if (*regress) return regress_command(regress_opts);
+    if (*sweep) return sweep_command();
     if (*keys) return keys_command(keys_opts);
   } catch (const InputError& e) {
     std::cerr << "rtusim: " << e.what() << "\n";

@@ -79,9 +79,11 @@ int run_command(const RunOptions& opts) {
     uint64_t max_bytes = 1;
     for (const LayoutRun& run : r.layouts)
       for (uint64_t b : run.pixel_dram_bytes) max_bytes = std::max(max_bytes, b);
-    for (const LayoutRun& run : r.layouts)
-      write_png(outputs.stage("heatmap_" + run.kind + ".png").string(), w, h,
-                heatmap_rgb8(run.pixel_dram_bytes, max_bytes));
+    for (const LayoutRun& run : r.layouts) {
+      const Rgb8Image map = heatmap_with_scale_rgb8(run.pixel_dram_bytes, w, h, max_bytes);
+      write_png(outputs.stage("heatmap_" + run.kind + ".png").string(), map.width, map.height,
+                map.rgb);
+    }
     const auto find = [&](const std::string& k) -> const LayoutRun* {
       for (const LayoutRun& run : r.layouts)
         if (run.kind == k) return &run;

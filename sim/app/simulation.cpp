@@ -15,7 +15,6 @@
 #include "tracer/parallel_render.h"
 
 namespace rtusim {
-namespace {
 
 void add_run_stats(const Prepared& p, const FrameResult& frame, Stats& s) {
   const KdTreeReport& r = p.tree.report;
@@ -42,7 +41,6 @@ void add_run_stats(const Prepared& p, const FrameResult& frame, Stats& s) {
   s.set("report.frames_per_second", p.config.report.frames_per_second);
 }
 
-// Keys of a layout's memory image.
 void add_image_stats(const MemoryImage& image, Stats& s) {
   s.set("layout.kind", image.layout);
   s.set("tree.bytes", image.nodes.size_bytes);
@@ -52,7 +50,6 @@ void add_image_stats(const MemoryImage& image, Stats& s) {
   s.set("mem.image.bytes", image.bytes.size());
 }
 
-// Figures derived from a tier's counters, the same for every tier.
 void add_report_stats(const FrameResult& frame, double fps, double seconds, Stats& s) {
   const double rays = static_cast<double>(std::max<uint64_t>(1, frame.rays_total()));
   const double node_bytes = s.at("dram.bytes.nodes").get<double>();
@@ -66,6 +63,8 @@ void add_report_stats(const FrameResult& frame, double fps, double seconds, Stat
   s.set("trace.seconds", seconds);
   s.set("trace.rays_per_second", seconds > 0 ? rays / seconds : 0.0);
 }
+
+namespace {
 
 // Traces the frame through `backend` (with a progress bar when `progress_bar`) on every core
 // the tier allows, and times it.

@@ -26,4 +26,13 @@ struct SimulationResult {
 
 SimulationResult simulate(const Prepared& p);
 
+// The stats simulate() writes besides the tier's, for whoever counts a run another way (sweeps).
+// Run-wide keys: scene.*, tree.*, rays.*, sim.tier, report.frames_per_second.
+void add_run_stats(const Prepared& p, const FrameResult& frame, Stats& s);
+// Keys of a layout's memory image: layout.kind, tree.bytes, mem.*.bytes.
+void add_image_stats(const MemoryImage& image, Stats& s);
+// Figures derived from a tier's counters (l1.miss_rate, report.*), the same for every tier, and
+// the trace timing of `seconds`.
+void add_report_stats(const FrameResult& frame, double fps, double seconds, Stats& s);
+
 }  // namespace rtusim

@@ -1,7 +1,9 @@
 // Declarations of the cache geometry keys, and their reading.
 #include "cache/cache_config.h"
 
+#include <algorithm>
 #include <cstdint>
+#include <optional>
 
 #include "cache/policy/policies.h"
 #include "config/param.h"
@@ -13,7 +15,9 @@ namespace {
 // The geometry keys of one cache, `prefix`.*.
 struct CacheKeys {
   std::string prefix;
-  IntParam size, assoc, line;
+  IntParam size;
+  IntOrWordParam assoc;
+  IntParam line;
   StringParam policy;
   IntParam seed;
 
@@ -21,8 +25,8 @@ struct CacheKeys {
       : prefix(p),
         size(p + ".size", static_cast<int64_t>(d.size_bytes), 4,
              static_cast<int64_t>(kMaxCacheBytes), "bytes", what + " capacity"),
-        assoc(p + ".assoc", d.assoc, 1, 1 << 24, "ways",
-              what + " ways per set (size / line = fully associative)"),
+        assoc(p + ".assoc", d.assoc, 1, 1 << 24, "full", "ways",
+              what + " ways per set (\"full\": one set, size / line ways)"),
         line(p + ".line", d.line_bytes, 4, 1 << 20, "bytes", what + " line size, a power of two"),
         policy(p + ".policy", d.policy, ReplacementPolicies::names(), "",
                what + " replacement policy"),
@@ -32,8 +36,11 @@ struct CacheKeys {
   CacheParams read(ConfigReader& r) const {
     CacheParams c;
     c.size_bytes = static_cast<uint64_t>(size.read(r));
-    c.assoc = static_cast<uint32_t>(assoc.read(r));
+    const std::optional<int64_t> ways = assoc.read(r);
     c.line_bytes = static_cast<uint32_t>(line.read(r));
+    // "full": every line in one set (a size below one line is left to validate()).
+    c.assoc = ways ? static_cast<uint32_t>(*ways)
+                   : static_cast<uint32_t>(std::max<uint64_t>(1, c.size_bytes / c.line_bytes));
     c.policy = policy.read(r);
     c.seed = static_cast<uint64_t>(seed.read(r));
     try {

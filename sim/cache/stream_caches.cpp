@@ -26,17 +26,19 @@ const char* stream_stats_name(Stream s) {
   return "?";
 }
 
-void FetchCache::write_stats(Stats& stats) const {
-  stats.set("l1.accesses", node_l1_.accesses());
-  stats.set("l1.hits", node_l1_.hits());
-  stats.set("l1.misses", node_l1_.misses());
-  if (data_cache_) {
-    stats.set("dcache.accesses", data_cache_->accesses());
-    stats.set("dcache.hits", data_cache_->hits());
-    stats.set("dcache.misses", data_cache_->misses());
+void FetchCache::write_stats(const Counters& counters, bool data_cache_on, Stats& stats) {
+  const StreamCounters& n = counters[0];
+  stats.set("l1.accesses", n.accesses);
+  stats.set("l1.hits", n.hits);
+  stats.set("l1.misses", n.misses);
+  if (data_cache_on) {
+    const StreamCounters &l = counters[1], &t = counters[2];
+    stats.set("dcache.accesses", l.accesses + t.accesses);
+    stats.set("dcache.hits", l.hits + t.hits);
+    stats.set("dcache.misses", l.misses + t.misses);
   }
   for (const Stream s : {Stream::kNode, Stream::kList, Stream::kTriangle}) {
-    const StreamCounters& c = stream(s);
+    const StreamCounters& c = counters[static_cast<int>(s)];
     const std::string stem = std::string("fetch.") + stream_stats_name(s);
     stats.set(stem + ".fetches", c.fetches);
     stats.set(stem + ".accesses", c.accesses);
@@ -44,7 +46,7 @@ void FetchCache::write_stats(Stats& stats) const {
     stats.set(stem + ".misses", c.misses);
     stats.set(std::string("dram.bytes.") + stream_stats_name(s), c.dram_bytes);
   }
-  stats.set("dram.bytes.total", dram_bytes_total());
+  stats.set("dram.bytes.total", counters[0].dram_bytes + counters[1].dram_bytes + counters[2].dram_bytes);
 }
 
 }  // namespace rtusim

@@ -41,6 +41,13 @@ class FetchCache {
   static constexpr uint32_t kDramBurstBytes = 64;
   static constexpr int kStreams = 3;
 
+  using Counters = std::array<StreamCounters, kStreams>;
+
+  // The 64-byte DRAM bursts that `bytes` (> 0) at `addr` touch.
+  static uint64_t dram_bursts(uint64_t addr, uint32_t bytes) {
+    return (addr + bytes - 1) / kDramBurstBytes - addr / kDramBurstBytes + 1;
+  }
+
   // Throws InputError on bad params (keys named "l1.*" and "dcache.*").
   explicit FetchCache(const FetchCacheParams& p);
 
@@ -54,7 +61,7 @@ class FetchCache {
     } else if (data_cache_) {
       count(c, *data_cache_, addr, bytes);
     } else {
-      const uint64_t bursts = ((addr + bytes - 1) / kDramBurstBytes) - addr / kDramBurstBytes + 1;
+      const uint64_t bursts = dram_bursts(addr, bytes);
       c.accesses += bursts;
       c.misses += bursts;
       c.dram_bytes += bursts * kDramBurstBytes;
@@ -82,7 +89,11 @@ class FetchCache {
   // Writes l1.{accesses,hits,misses}, dcache.{accesses,hits,misses} (when on),
   // fetch.{nodes,lists,triangles}.{fetches,accesses,hits,misses} and
   // dram.bytes.{nodes,lists,triangles,total}.
-  void write_stats(Stats& stats) const;
+  void write_stats(Stats& stats) const { write_stats(counters_, data_cache_.has_value(), stats); }
+  // The same keys from per-stream counters (the node L1 is the node stream's cache; the data
+  // cache, when on, the list and triangle streams').
+  static void write_stats(const Counters& counters, bool data_cache_on, Stats& stats);
+  const Counters& counters() const { return counters_; }
 
  private:
   template <class Concrete>
@@ -115,7 +126,7 @@ class FetchCache {
 
   SetAssocCache node_l1_;
   std::optional<SetAssocCache> data_cache_;
-  std::array<StreamCounters, kStreams> counters_{};
+  Counters counters_{};
 };
 
 // Stats key stem of a stream: "nodes", "lists", "triangles".

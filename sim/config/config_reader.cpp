@@ -38,7 +38,8 @@ std::string join(const std::vector<std::string>& v) {
   return out;
 }
 
-// Collects the dotted names of every leaf value, in source order.
+}  // namespace
+
 void collect_leaves(const toml::table& t, const std::string& prefix,
                     std::vector<std::pair<std::string, const toml::node*>>& out) {
   for (const auto& [k, v] : t) {
@@ -47,8 +48,6 @@ void collect_leaves(const toml::table& t, const std::string& prefix,
     else out.emplace_back(name, &v);
   }
 }
-
-}  // namespace
 
 ConfigReader ConfigReader::from_string(const std::string& text, const std::string& origin) {
   ConfigReader r;
@@ -159,6 +158,18 @@ int64_t ConfigReader::get_int(const std::string& key, int64_t fallback, int64_t 
   }
   record(key, toml::value<int64_t>(v));
   return v;
+}
+
+std::optional<int64_t> ConfigReader::get_int_or_word(const std::string& key, int64_t fallback,
+                                                     int64_t min, int64_t max,
+                                                     const std::string& word) {
+  if (const toml::node* n = find(key); n && n->is_string()) {
+    if (n->as_string()->get() != word)
+      fail(key, "expected an integer or \"" + word + "\", got \"" + n->as_string()->get() + "\"");
+    record(key, toml::value<std::string>(word));
+    return std::nullopt;
+  }
+  return get_int(key, fallback, min, max);
 }
 
 double ConfigReader::get_float(const std::string& key, double fallback, double min, double max) {

@@ -16,6 +16,10 @@
 
 namespace rtusim {
 
+// Collects the dotted names of every leaf value of `t` (arrays are leaves), in source order.
+void collect_leaves(const toml::table& t, const std::string& prefix,
+                    std::vector<std::pair<std::string, const toml::node*>>& out);
+
 class ConfigReader {
  public:
   // Parses `path` (throws InputError on a missing file or a TOML syntax error).
@@ -30,6 +34,9 @@ class ConfigReader {
   // Typed getters: the value at dotted `key`, or `fallback` when absent. A wrong type or a
   // value out of range throws InputError naming the key and where it was set.
   int64_t get_int(const std::string& key, int64_t fallback, int64_t min, int64_t max);
+  // An integer, or the string `word` (nullopt; recorded as the word).
+  std::optional<int64_t> get_int_or_word(const std::string& key, int64_t fallback, int64_t min,
+                                         int64_t max, const std::string& word);
   double get_float(const std::string& key, double fallback, double min, double max);
   bool get_bool(const std::string& key, bool fallback);
   std::string get_string(const std::string& key, const std::string& fallback,

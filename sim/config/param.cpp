@@ -73,6 +73,13 @@ NumberParam<T>::NumberParam(std::string key, T fallback, T min, T max, std::stri
 template class NumberParam<int64_t>;
 template class NumberParam<double>;
 
+IntOrWordParam::IntOrWordParam(std::string key, int64_t fallback, int64_t min, int64_t max,
+                               std::string word, std::string unit, std::string description)
+    : ParamDecl({std::move(key), ParamType::kInt, number_text(fallback),
+                 range_text(min, max) + " or " + quoted(word), std::move(unit),
+                 std::move(description)}),
+      fallback_(fallback), min_(min), max_(max), word_(std::move(word)) {}
+
 BoolParam::BoolParam(std::string key, bool fallback, std::string description)
     : ParamDecl({std::move(key), ParamType::kBool, fallback ? "true" : "false", "", "",
                  std::move(description)}),

@@ -70,6 +70,21 @@ class NumberParam final : public ParamDecl {
 using IntParam = NumberParam<int64_t>;
 using FloatParam = NumberParam<double>;
 
+// An integer in [min, max], or the word `word` (e.g. l1.assoc = "full"): read() gives nullopt
+// for the word, which the effective config keeps as written.
+class IntOrWordParam final : public ParamDecl {
+ public:
+  IntOrWordParam(std::string key, int64_t fallback, int64_t min, int64_t max, std::string word,
+                 std::string unit, std::string description);
+  std::optional<int64_t> read(ConfigReader& r) const {
+    return r.get_int_or_word(key(), fallback_, min_, max_, word_);
+  }
+
+ private:
+  int64_t fallback_, min_, max_;
+  std::string word_;
+};
+
 class BoolParam final : public ParamDecl {
  public:
   BoolParam(std::string key, bool fallback, std::string description);

@@ -21,12 +21,17 @@ FunctionalParams read_functional_params(ConfigReader& r) {
 
 void FunctionalTier::write_stats(Stats& stats) const {
   const FetchCache& c = backend_.caches();
-  stats.set("traversal.node_fetches", c.stream(Stream::kNode).fetches);
-  stats.set("traversal.list_fetches", c.stream(Stream::kList).fetches);
-  stats.set("traversal.triangle_fetches", c.stream(Stream::kTriangle).fetches);
-  c.write_stats(stats);
+  write_stats(c.counters(), c.data_cache() != nullptr, stats);
   if (backend_.rays_in_flight() > 1)
     stats.set("functional.rays_in_flight", backend_.rays_in_flight());
+}
+
+void FunctionalTier::write_stats(const FetchCache::Counters& counters, bool data_cache_on,
+                                 Stats& stats) {
+  stats.set("traversal.node_fetches", counters[int(Stream::kNode)].fetches);
+  stats.set("traversal.list_fetches", counters[int(Stream::kList)].fetches);
+  stats.set("traversal.triangle_fetches", counters[int(Stream::kTriangle)].fetches);
+  FetchCache::write_stats(counters, data_cache_on, stats);
 }
 
 }  // namespace rtusim

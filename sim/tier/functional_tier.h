@@ -19,6 +19,8 @@ class FunctionalTier final : public TierRun {
   // traversal.{node,list,triangle}_fetches, the caches' keys (FetchCache::write_stats) and, in
   // the interleaved mode, functional.rays_in_flight.
   void write_stats(Stats& stats) const override;
+  // The same keys from the streams' counters (what a cache sweep has for each of its points).
+  static void write_stats(const FetchCache::Counters& counters, bool data_cache_on, Stats& stats);
   std::vector<uint64_t> pixel_dram_bytes() const override { return backend_.pixel_dram_bytes(); }
 
  private:

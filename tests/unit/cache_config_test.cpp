@@ -47,6 +47,24 @@ TEST(CacheConfigTest, DefaultsAreThePaperCache) {
   EXPECT_FALSE(p.data_cache.has_value());
 }
 
+TEST(CacheConfigTest, FullAssociativityIsOneSet) {
+  ConfigReader r = ConfigReader::from_string(
+      "[l1]\nsize = 4096\nassoc = \"full\"\nline = 32\n[dcache]\nenable = true\nsize = 2048\n",
+      "test.toml");
+  r.apply_override("dcache.assoc=full");  // a bare word from --set
+  const FetchCacheParams p = read_fetch_cache_params(r);
+  EXPECT_EQ(p.node_l1.assoc, 128u);
+  ASSERT_TRUE(p.data_cache.has_value());
+  EXPECT_EQ(p.data_cache->assoc, 32u);
+  // The effective config keeps the word.
+  EXPECT_EQ(r.effective()["l1"]["assoc"].value<std::string>(), "full");
+  EXPECT_EQ(r.effective()["dcache"]["assoc"].value<std::string>(), "full");
+  EXPECT_EQ(read_error("[l1]\nassoc = \"half\"\n"),
+            "test.toml:2: l1.assoc: expected an integer or \"full\", got \"half\"");
+  // One set smaller than a line is still the geometry check's error.
+  EXPECT_NE(read_error("[l1]\nsize = 32\nassoc = \"full\"\n").find("l1.size"), std::string::npos);
+}
+
 TEST(CacheConfigTest, ErrorsNameKeyAndFile) {
   EXPECT_EQ(read_error("[l1]\nsize = 8000\n"),
             "test.toml:2: l1.size: 8000 is not a multiple of l1.line x l1.assoc (256)");

@@ -121,7 +121,8 @@ TEST(Config, SetErrorsNameTheSet) {
       << error_of(path, {"dram.channels=0"});
   // Without a --set, the file and the line of the key it sets.
   const auto bad = write_config("bad.toml", "[image]\nwidth = 8\n[dram]\nrow_bytes = 100\n");
-  EXPECT_EQ(error_of(bad), bad + ":4: dram.row_bytes: 100 is not a multiple of a burst (64 bytes)");
+  EXPECT_EQ(error_of(bad), bad + ":4: dram.bus_bytes: 8 x dram.burst_length 8 = 64 bytes per burst does not divide "
+                "dram.row_bytes = 100");
 }
 
 TEST(Config, EveryDeclaredKeyIsReadAndEveryReadKeyDeclared) {

@@ -1,0 +1,81 @@
+#!/usr/bin/env python3
+"""Runs the pending jobs of an `rtusim sweep` as Dask tasks (started by `rtusim sweep --scheduler`).
+
+usage: sweep_dask.py --scheduler tcp://HOST:PORT --jobs 0,3,4 -- RTUSIM sweep SPEC [--set ...] --out DIR
+
+Each task runs `RTUSIM sweep SPEC [--set ...] --out WORKER_TMP --group K` on a worker and returns
+the job's rows (jobs/K.json); this driver writes them into DIR/jobs/K.json atomically, as they
+arrive, so a driver killed midway loses only the jobs in flight and a rerun skips the rest.
+Workers need the same rtusim path, spec path and scenes as this machine (a shared or mirrored
+file system); they do not need DIR.
+
+Start a cluster by hand:
+    dask scheduler --port 8786                        # on one machine
+    dask worker tcp://SCHEDULER:8786 --nthreads 1     # on each worker machine, once per core
+(each task runs one job on one core: --threads 1)
+then: rtusim sweep SPEC --out DIR --scheduler tcp://SCHEDULER:8786
+"""
+import argparse
+import os
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+
+def run_job(command, job):
+    """On a worker: one job of the sweep into a private directory; returns (job, rows text)."""
+    with tempfile.TemporaryDirectory(prefix="rtusim-sweep-") as tmp:
+        argv = list(command) + ["--out", tmp, "--group", str(job), "--threads", "1", "--no-plots"]
+        done = subprocess.run(argv, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        if done.returncode != 0:
+            lines = [l for l in done.stdout.splitlines() if l.strip()]
+            return job, None, done.returncode, lines[-1] if lines else ""
+        return job, (Path(tmp) / "jobs" / f"{job}.json").read_text(), 0, ""
+
+
+def split_out(command):
+    """The job command without its --out DIR, and DIR."""
+    i = command.index("--out")
+    return command[:i] + command[i + 2:], Path(command[i + 1])
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--scheduler", required=True)
+    ap.add_argument("--jobs", required=True, help="comma-separated job indices")
+    ap.add_argument("command", nargs=argparse.REMAINDER)
+    a = ap.parse_args()
+    command = a.command[1:] if a.command[:1] == ["--"] else a.command
+    command, out_dir = split_out(command)
+    jobs = [int(j) for j in a.jobs.split(",") if j != ""]
+    if not jobs:
+        return 0
+    from distributed import Client, as_completed  # only the Dask path needs it
+
+    tty = sys.stderr.isatty()
+    with Client(a.scheduler) as client:
+        futures = [client.submit(run_job, command, j, pure=False, key=f"rtusim-sweep-job-{j}-{os.getpid()}")
+                   for j in jobs]
+        done = 0
+        for future in as_completed(futures):
+            job, text, status, last = future.result()
+            if text is None:
+                print(f"rtusim: sweep job {job} failed on a Dask worker (exit {status}): {last}",
+                      file=sys.stderr)
+                client.cancel(futures)
+                return 2 if status == 2 else 1
+            path = out_dir / "jobs" / f"{job}.json"
+            tmp = path.with_name(f"{path.name}.tmp{os.getpid()}")
+            tmp.write_text(text)
+            os.replace(tmp, path)
+            done += 1
+            if tty:
+                print(f"\rsweep (dask) {done}/{len(jobs)} jobs", end="", file=sys.stderr, flush=True)
+        if tty:
+            print(file=sys.stderr)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

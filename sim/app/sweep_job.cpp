@@ -1,0 +1,150 @@
+#include "app/sweep_job.h"
+
+#include <chrono>
+#include <algorithm>
+#include <optional>
+#include <tuple>
+
+#include "app/simulation.h"
+#include "scene/pinhole_camera.h"
+#include "sweep/sweep_backend.h"
+#include "tier/functional_tier.h"
+#include "tracer/whitted_tracer.h"
+
+namespace rtusim {
+namespace {
+
+auto cache_tuple(const CacheParams& c) {
+  return std::make_tuple(c.size_bytes, c.assoc, c.line_bytes, c.policy, c.seed);
+}
+
+// Distinct cache configurations, and each point's index among them.
+struct Configs {
+  std::vector<CacheParams> list;
+  size_t add(const CacheParams& c) {
+    for (size_t i = 0; i < list.size(); ++i)
+      if (cache_tuple(list[i]) == cache_tuple(c)) return i;
+    list.push_back(c);
+    return list.size() - 1;
+  }
+};
+
+// The streams' counters of one point: the node stream through node configuration `node_cfg`,
+// lists and triangles through data configuration `data_cfg` or straight to DRAM.
+FetchCache::Counters point_counters(const SweepBackend& b, const CacheSweep& nodes, size_t node_cfg,
+                                    const CacheParams& l1, const CacheSweep* data,
+                                    size_t data_cfg, const CacheParams* dcache) {
+  FetchCache::Counters c{};
+  const auto count = [&](int s, uint64_t accesses, uint64_t misses, uint32_t line_bytes) {
+    c[s].accesses = accesses;
+    c[s].hits = accesses - misses;
+    c[s].misses = misses;
+    c[s].dram_bytes = misses * line_bytes;
+  };
+  count(0, nodes.accesses(node_cfg)[0], nodes.misses(node_cfg)[0], l1.line_bytes);
+  for (int s = 1; s < FetchCache::kStreams; ++s) {
+    if (dcache)
+      count(s, data->accesses(data_cfg)[s], data->misses(data_cfg)[s], dcache->line_bytes);
+    else
+      count(s, b.direct_bursts(Stream(s)), b.direct_bursts(Stream(s)), FetchCache::kDramBurstBytes);
+  }
+  for (int s = 0; s < FetchCache::kStreams; ++s) c[s].fetches = b.fetches(Stream(s));
+  return c;
+}
+
+nlohmann::json to_json_row(const Stats& stats) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& [k, v] : stats.values())
+    if (!is_timing_key(k)) j[k] = v;
+  return j;
+}
+
+void run_functional(const SweepPlan& plan, const SweepJob& job, const std::string& base_path,
+                    unsigned threads, nlohmann::json& rows) {
+  // Prepare once for every layout of the job, with the first point's other keys.
+  const SweepPoint& anchor = plan.points[job.points.front()];
+  std::vector<std::string> kinds;
+  for (const size_t i : job.points)
+    if (std::find(kinds.begin(), kinds.end(), plan.points[i].layout) == kinds.end())
+      kinds.push_back(plan.points[i].layout);
+  std::vector<std::string> overrides = plan.sets;
+  for (const auto& o : anchor.overrides)
+    if (o.rfind("layout.kind=", 0) != 0) overrides.push_back(o);
+  std::string list;
+  for (const auto& k : kinds) list += (list.empty() ? "'" : ", '") + k + "'";
+  overrides.push_back("layout.kind=[" + list + "]");
+  const Prepared p = prepare_run(base_path, overrides);
+  const int w = p.config.image.width, h = p.config.image.height;
+
+  for (size_t li = 0; li < kinds.size(); ++li) {
+    // The distinct caches of this layout's points.
+    Configs node_cfgs, data_cfgs;
+    std::vector<size_t> points;
+    for (const size_t i : job.points)
+      if (plan.points[i].layout == kinds[li]) {
+        points.push_back(i);
+        node_cfgs.add(plan.points[i].caches.node_l1);
+        if (plan.points[i].caches.data_cache) data_cfgs.add(*plan.points[i].caches.data_cache);
+      }
+    // One traced frame: every cache of the layout evaluated as the fetches come.
+    const MemoryImage& image = p.images[li];
+    CacheSweep nodes(node_cfgs.list, image.bytes.size(), threads);
+    std::optional<CacheSweep> data;
+    if (!data_cfgs.list.empty()) data.emplace(data_cfgs.list, image.bytes.size(), threads);
+    nodes.set_threads(threads);
+    if (data) data->set_threads(threads);
+    SweepBackend backend(image, nodes, data ? &*data : nullptr);
+    WhittedTracer tracer(p.scene, p.config.tracer, backend);
+    const auto t0 = std::chrono::steady_clock::now();
+    const FrameResult frame = tracer.render(PinholeCamera(p.camera, w, h), w, h);
+    backend.flush();
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+    // Each point's stats.json keys, written by the code simulate() and the functional tier use.
+    Stats base;
+    add_run_stats(p, frame, base);
+    add_image_stats(image, base);
+    for (const size_t i : points) {
+      const FetchCacheParams& c = plan.points[i].caches;
+      const CacheParams* dc = c.data_cache ? &*c.data_cache : nullptr;
+      Stats stats = base;
+      FunctionalTier::write_stats(
+          point_counters(backend, nodes, node_cfgs.add(c.node_l1), c.node_l1,
+                         data ? &*data : nullptr, dc ? data_cfgs.add(*dc) : 0, dc),
+          dc != nullptr, stats);
+      add_report_stats(frame, p.config.report.frames_per_second, seconds, stats);
+      rows[std::to_string(i)] = to_json_row(stats);
+    }
+  }
+}
+
+}  // namespace
+
+bool is_timing_key(const std::string& key) {
+  const auto ends = [&](const std::string& s) {
+    return key.size() >= s.size() && key.compare(key.size() - s.size(), s.size(), s) == 0;
+  };
+  return ends("seconds") || key == "trace.rays_per_second";
+}
+
+nlohmann::json run_sweep_job(const SweepPlan& plan, size_t job, const std::string& base_path,
+                             unsigned threads) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const SweepJob& j = plan.jobs.at(job);
+  nlohmann::json rows = nlohmann::json::object();
+  if (j.timed) {
+    const SweepPoint& pt = plan.points[j.points.front()];
+    std::vector<std::string> overrides = plan.sets;
+    overrides.insert(overrides.end(), pt.overrides.begin(), pt.overrides.end());
+    const Prepared p = prepare_run(base_path, overrides);
+    rows[std::to_string(j.points.front())] = to_json_row(simulate(p).stats);
+  } else {
+    run_functional(plan, j, base_path, threads, rows);
+  }
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return {{"job", job}, {"points", j.points.size()}, {"seconds", seconds}, {"rows", rows}};
+}
+
+}  // namespace rtusim

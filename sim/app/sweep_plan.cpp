@@ -1,0 +1,321 @@
+#include "app/sweep_plan.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include <toml++/toml.h>
+
+#include "app/run_config.h"
+#include "config/config_reader.h"
+#include "tier/functional_tier.h"
+#include "util/error.h"
+
+namespace rtusim {
+namespace {
+
+namespace fs = std::filesystem;
+
+// One dimension of the product: a key with its values, or a group of keys set together.
+struct Dim {
+  std::string name;                         // the key, or "group.NAME"
+  std::vector<std::string> keys;            // config keys it sets
+  std::vector<std::vector<std::string>> values;  // [entry][key]: TOML text, "" = not set
+  std::vector<std::vector<std::string>> cells;   // [entry][key]: CSV text
+};
+
+// Keys whose values only change the caches or the layout: points differing in them share a job.
+bool is_cache_key(const std::string& key) {
+  static const std::set<std::string> keys = {
+      "l1.size",     "l1.assoc",     "l1.line",     "l1.policy",     "l1.seed",
+      "dcache.enable", "dcache.size", "dcache.assoc", "dcache.line", "dcache.policy",
+      "dcache.seed", "layout.kind"};
+  return keys.count(key) != 0;
+}
+
+// Inner dimensions in this order (the rest by name): layout, then per cache policy, line,
+// associativity, size (the size varies fastest: a row block is a miss-ratio curve).
+int inner_rank(const std::string& key) {
+  static const std::vector<std::string> order = {
+      "layout.kind",   "l1.policy",   "l1.line",      "l1.assoc",   "l1.size",
+      "dcache.policy", "dcache.line", "dcache.assoc", "dcache.size"};
+  const auto it = std::find(order.begin(), order.end(), key);
+  return static_cast<int>(it - order.begin());
+}
+
+std::string value_text(const toml::node& v) {
+  toml::table one;
+  one.insert("v", v);
+  std::ostringstream os;
+  os << one;
+  return os.str().substr(4);  // after "v = "
+}
+
+std::string cell_text(const toml::node& v) {
+  if (const auto* s = v.as_string()) return s->get();
+  return value_text(v);
+}
+
+std::string type_name(const toml::node& n) {
+  if (n.is_table()) return "a table";
+  if (n.is_array()) return "an array";
+  return "a single value";
+}
+
+// A relative scene path becomes absolute against the spec's directory (the base config and the
+// runs live in the output directory).
+std::string absolute_scene_path(const std::string& path, const fs::path& spec_dir) {
+  if (path.rfind("builtin:", 0) == 0 || path.rfind("$RTUSIM_SCENES", 0) == 0 ||
+      path.rfind("${RTUSIM_SCENES}", 0) == 0 || fs::path(path).is_absolute())
+    return path;
+  return fs::absolute(spec_dir / path).lexically_normal().string();
+}
+
+// The [sweep] table as dimensions.
+std::vector<Dim> read_dims(const toml::table& sweep, const std::string& spec,
+                           const fs::path& spec_dir) {
+  std::vector<Dim> dims;
+  const auto fix_scene = [&](const std::string& key, const toml::node& v) {
+    if (key == "scene.path" && v.is_string())
+      return value_text(toml::value<std::string>(absolute_scene_path(v.as_string()->get(), spec_dir)));
+    return value_text(v);
+  };
+  std::vector<std::pair<std::string, const toml::node*>> keys;
+  for (const auto& [k, v] : sweep) {
+    if (k.str() != "group") {
+      if (const auto* t = v.as_table()) collect_leaves(*t, std::string(k.str()), keys);
+      else keys.emplace_back(std::string(k.str()), &v);
+      continue;
+    }
+    const auto* groups = v.as_table();
+    if (!groups) throw InputError(spec + ": [sweep] group: expected [[sweep.group.NAME]] tables");
+    for (const auto& [name, entries] : *groups) {
+      const std::string where = spec + ": [sweep.group." + std::string(name.str()) + "]";
+      const auto* arr = entries.as_array();
+      if (!arr || !arr->is_array_of_tables())
+        throw InputError(where + ": expected [[sweep.group." + std::string(name.str()) +
+                         "]] entries (tables of keys set together)");
+      if (arr->empty()) throw InputError(where + ": empty group");
+      Dim d;
+      d.name = "group." + std::string(name.str());
+      std::vector<std::vector<std::pair<std::string, const toml::node*>>> per_entry;
+      std::set<std::string> all;
+      for (const auto& e : *arr) {
+        per_entry.emplace_back();
+        collect_leaves(*e.as_table(), "", per_entry.back());
+        if (per_entry.back().empty()) throw InputError(where + ": an entry sets no key");
+        for (const auto& [key, node] : per_entry.back()) all.insert(key);
+      }
+      d.keys.assign(all.begin(), all.end());
+      for (const auto& entry : per_entry) {
+        std::vector<std::string> vals(d.keys.size()), cells(d.keys.size());
+        for (const auto& [key, node] : entry) {
+          const size_t i = std::find(d.keys.begin(), d.keys.end(), key) - d.keys.begin();
+          vals[i] = fix_scene(key, *node);
+          cells[i] = cell_text(*node);
+        }
+        d.values.push_back(vals);
+        d.cells.push_back(cells);
+      }
+      dims.push_back(std::move(d));
+    }
+  }
+  for (const auto& [key, node] : keys) {
+    const auto* arr = node->as_array();
+    if (!arr)
+      throw InputError(spec + ": [sweep] " + key + " = " + value_text(*node) +
+                       ": expected a list of values, got " + type_name(*node));
+    if (arr->empty()) throw InputError(spec + ": [sweep] " + key + ": empty list of values");
+    Dim d;
+    d.name = key;
+    d.keys = {key};
+    for (const auto& v : *arr) {
+      d.values.push_back({fix_scene(key, v)});
+      d.cells.push_back({cell_text(v)});
+    }
+    dims.push_back(std::move(d));
+  }
+  return dims;
+}
+
+// The base config in a temporary file, for validating points before the output directory exists.
+class TempFile {
+ public:
+  explicit TempFile(const std::string& text)
+      : path_(fs::temp_directory_path() /
+              ("rtusim-sweep-" + std::to_string(::getpid()) + "-base.toml")) {
+    std::ofstream(path_) << text;
+  }
+  ~TempFile() {
+    std::error_code ec;
+    fs::remove(path_, ec);
+  }
+  std::string path() const { return path_.string(); }
+
+ private:
+  fs::path path_;
+};
+
+// The message of a config error with the temporary base file's name (and line) cut off.
+std::string inner_message(const std::string& what, const std::string& base_path) {
+  if (what.rfind("--set ", 0) == 0 && what.find(": ") != std::string::npos)
+    return what.substr(what.find(": ") + 2);  // the sweep names the key and value itself
+  if (what.rfind(base_path, 0) != 0) return what;
+  size_t i = base_path.size();
+  if (i < what.size() && what[i] == ':') ++i;
+  while (i < what.size() && (std::isdigit(static_cast<unsigned char>(what[i])) || what[i] == ':'))
+    ++i;
+  while (i < what.size() && what[i] == ' ') ++i;
+  return what.substr(i);
+}
+
+std::string describe(const std::vector<std::string>& keys, const std::vector<std::string>& cells) {
+  std::string s;
+  for (size_t i = 0; i < keys.size(); ++i)
+    if (!cells[i].empty()) s += (s.empty() ? "" : ", ") + keys[i] + " = " + cells[i];
+  return s;
+}
+
+}  // namespace
+
+SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string>& sets) {
+  SweepPlan plan;
+  plan.spec_path = spec_path;
+  plan.sets = sets;
+  {
+    std::error_code ec;
+    if (!fs::is_regular_file(spec_path, ec)) throw InputError(spec_path + ": sweep spec not found");
+    std::ifstream in(spec_path, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    plan.spec_text = ss.str();
+  }
+  toml::table root;
+  try {
+    root = toml::parse(plan.spec_text, spec_path);
+  } catch (const toml::parse_error& e) {
+    std::string what(e.description());
+    std::replace(what.begin(), what.end(), '\n', ' ');
+    throw InputError(spec_path + ":" + std::to_string(e.source().begin.line) + ": " + what);
+  }
+  const auto* sweep = root["sweep"].as_table();
+  if (!sweep)
+    throw InputError(spec_path + ": [sweep]: missing (a sweep spec is a run config plus a "
+                     "[sweep] table of keys with lists of values)");
+  const fs::path spec_dir = fs::absolute(fs::path(spec_path)).parent_path();
+  std::vector<Dim> dims = read_dims(*sweep, spec_path, spec_dir);
+
+  // The base config: the spec without [sweep].
+  toml::table base = root;
+  base.erase("sweep");
+  if (auto* path = base["scene"]["path"].as_string())
+    *path = absolute_scene_path(path->get(), spec_dir);
+  std::ostringstream os;
+  os << base;
+  plan.base_toml = "# The base config of the sweep " + spec_path + " (its [sweep] table removed)\n" +
+                   os.str() + "\n";
+  const TempFile base_file(plan.base_toml);
+
+  // Loads one point's config; errors name the spec and what the point sets.
+  const auto load = [&](std::vector<std::string> overrides, const std::string& what) {
+    try {
+      RunConfig c = load_run_config(base_file.path(), overrides);
+      if (c.scene.resolved.rfind("builtin:", 0) != 0 && !fs::exists(c.scene.resolved))
+        throw InputError("scene.path: " + c.scene.resolved + " not found");
+      return c;
+    } catch (const InputError& e) {
+      throw InputError(spec_path + ": " + what + ": " + inner_message(e.what(), base_file.path()));
+    }
+  };
+  const RunConfig base_config = load(sets, "base config");
+
+  // Several layouts in the base config and none swept: each is a point of its own.
+  const bool layout_swept = std::any_of(dims.begin(), dims.end(), [](const Dim& d) {
+    return std::count(d.keys.begin(), d.keys.end(), "layout.kind") != 0;
+  });
+  if (!layout_swept && base_config.layout.kinds.size() > 1) {
+    Dim d{"layout.kind", {"layout.kind"}, {}, {}};
+    for (const auto& k : base_config.layout.kinds) {
+      d.values.push_back({"'" + k + "'"});
+      d.cells.push_back({k});
+    }
+    dims.push_back(std::move(d));
+  }
+
+  // Outer dimensions (they change the traced frame) by name, then the cache dimensions.
+  const auto inner = [](const Dim& d) {
+    return std::all_of(d.keys.begin(), d.keys.end(), is_cache_key);
+  };
+  std::stable_sort(dims.begin(), dims.end(), [&](const Dim& a, const Dim& b) {
+    if (inner(a) != inner(b)) return !inner(a);
+    if (inner(a)) {
+      const int ra = inner_rank(a.name), rb = inner_rank(b.name);
+      if (ra != rb) return ra < rb;
+    }
+    return a.name < b.name;
+  });
+  for (const Dim& d : dims)
+    for (const auto& k : d.keys) plan.columns.push_back(k);
+
+  // Every value alone, so a bad one is named before any combination of it.
+  for (const Dim& d : dims)
+    for (size_t e = 0; e < d.values.size(); ++e) {
+      std::vector<std::string> o = sets;
+      for (size_t k = 0; k < d.keys.size(); ++k)
+        if (!d.values[e][k].empty()) o.push_back(d.keys[k] + "=" + d.values[e][k]);
+      const std::string what = d.name.rfind("group.", 0) == 0
+                                   ? "[sweep." + d.name + "] " + describe(d.keys, d.cells[e])
+                                   : "[sweep] " + d.keys[0] + " = " + d.cells[e][0];
+      load(o, what);
+    }
+
+  // The product; each point validated as a whole.
+  size_t total = 1;
+  for (const Dim& d : dims) total *= d.values.size();
+  std::map<std::string, size_t> job_of_key;
+  for (size_t index = 0; index < total; ++index) {
+    SweepPoint pt;
+    std::vector<size_t> entry(dims.size());
+    for (size_t i = dims.size(), rest = index; i-- > 0;) {
+      entry[i] = rest % dims[i].values.size();
+      rest /= dims[i].values.size();
+    }
+    std::string job_key;
+    for (size_t i = 0; i < dims.size(); ++i)
+      for (size_t k = 0; k < dims[i].keys.size(); ++k) {
+        const std::string& v = dims[i].values[entry[i]][k];
+        pt.cells.push_back(dims[i].cells[entry[i]][k]);
+        if (v.empty()) continue;
+        pt.overrides.push_back(dims[i].keys[k] + "=" + v);
+        if (!is_cache_key(dims[i].keys[k])) job_key += pt.overrides.back() + "\n";
+      }
+    std::vector<std::string> all = sets;
+    all.insert(all.end(), pt.overrides.begin(), pt.overrides.end());
+    const RunConfig c = load(all, "[sweep] point " + std::to_string(index) + " (" +
+                                      describe(plan.columns, pt.cells) + ")");
+    if (c.layout.kinds.size() != 1)
+      throw InputError(spec_path + ": [sweep] point " + std::to_string(index) +
+                       ": layout.kind: a point has one layout (sweep layout.kind instead)");
+    pt.caches = c.fetch_caches();
+    pt.layout = c.layout.kinds.front();
+    pt.timed = c.sim.tier != FunctionalTier::kName;
+    if (pt.timed) {
+      pt.job = plan.jobs.size();
+      plan.jobs.push_back(SweepJob{{index}, true});
+    } else {
+      auto [it, fresh] = job_of_key.try_emplace(job_key, plan.jobs.size());
+      if (fresh) plan.jobs.push_back(SweepJob{{}, false});
+      pt.job = it->second;
+      plan.jobs[pt.job].points.push_back(index);
+    }
+    plan.points.push_back(std::move(pt));
+  }
+  return plan;
+}
+
+}  // namespace rtusim

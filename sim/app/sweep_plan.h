@@ -1,0 +1,53 @@
+// A sweep spec: a run config plus a [sweep] table, expanded into points and jobs.
+//
+//   [sweep]
+//   l1.size = [1024, 2048, 4096]        # a key and its values: one dimension of the product
+//   l1.assoc = [1, 2, 4, "full"]        # "full" = one set (l1.assoc = l1.size / l1.line)
+//   [[sweep.group.scene]]               # a named group: keys that vary together, one entry each
+//   scene.path = "$RTUSIM_SCENES/kitchen/kitchen.gltf"
+//   scene.camera = "bart_camera_t0"
+//
+// The points are the product of the dimensions; a point is the base config (the spec without
+// [sweep], then the command's --set) with the point's overrides, exactly what `rtusim run BASE
+// --set …` runs. Functional points that differ only in cache keys and layout.kind form one job
+// (one prepared scene and tree, one traced frame per layout for all their caches); every point
+// of a timed tier is its own job. Every point is validated by load_run_config before anything
+// runs; errors name the spec file, the key and the value.
+#pragma once
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "cache/stream_caches.h"
+
+namespace rtusim {
+
+struct SweepPoint {
+  std::vector<std::string> overrides;  // KEY=VALUE (TOML), after the --set of the sweep
+  std::vector<std::string> cells;      // CSV text of each swept column, as in the spec
+  FetchCacheParams caches;             // the node L1 and data cache of the point
+  std::string layout;                  // its one layout.kind
+  bool timed = false;                  // sim.tier cycle or rtl
+  size_t job = 0;
+};
+
+struct SweepJob {
+  std::vector<size_t> points;  // in point order
+  bool timed = false;
+};
+
+struct SweepPlan {
+  std::string spec_path;
+  std::string spec_text;
+  std::vector<std::string> sets;     // the command's --set KEY=VALUE
+  std::string base_toml;             // the spec without [sweep]; relative scene paths absolute
+  std::vector<std::string> columns;  // the swept keys, in dimension order
+  std::vector<SweepPoint> points;    // product order: the last dimension varies fastest
+  std::vector<SweepJob> jobs;        // in order of their first point
+};
+
+// Reads, expands and validates the spec. Throws InputError naming the spec, key and value.
+SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string>& sets);
+
+
+}  // namespace rtusim

@@ -1,0 +1,202 @@
+#include "sweep/cache_sweep.h"
+
+#include <algorithm>
+#include <bit>
+#include <future>
+#include <map>
+#include <set>
+#include <stdexcept>
+
+namespace rtusim {
+
+// LRU engines sharing one line size: the line stream is decoded once for all of them.
+struct CacheSweep::LineGroup {
+  uint32_t shift = 0;
+  PerTag accesses{};
+  PerTag repeats{};               // accesses to the line accessed just before
+  uint64_t last_line = ~uint64_t{0};
+  std::unique_ptr<FullyAssocLruStack> full;
+  std::vector<uint64_t> full_capacities;         // lines, increasing
+  std::vector<PerTag> full_hist;                 // per region (+1: misses in all)
+  std::vector<SetLruStacks> set_stacks;
+  std::vector<std::vector<PerTag>> set_hist;     // per engine, per distance (+1: beyond)
+  std::vector<PerTag> mru_from;  // accesses at distance 0 in engine e and every later engine
+
+  void feed(std::span<const SweepFetch> fetches) {
+    constexpr size_t kAhead = 4;  // fetches between a line's prefetch and its access
+    for (size_t i = 0; i < fetches.size(); ++i) {
+      if (i + kAhead < fetches.size()) {
+        const uint64_t soon = fetches[i + kAhead].addr >> shift;
+        if (full) full->prefetch(static_cast<uint32_t>(soon));
+      }
+      const SweepFetch& f = fetches[i];
+      if (f.bytes == 0) continue;
+      const uint64_t first = f.addr >> shift, last = (f.addr + f.bytes - 1) >> shift;
+      for (uint64_t line = first; line <= last; ++line) {
+        ++accesses[f.tag];
+        // The line just accessed again: a hit at distance 0 everywhere, no state changes.
+        if (line == last_line) {
+          ++repeats[f.tag];
+          continue;
+        }
+        last_line = line;
+        if (full) ++full_hist[full->access(static_cast<uint32_t>(line))][f.tag];
+        // Set counts in increasing order: the most recent line of its set at s sets is also
+        // the most recent of its (smaller) set at every larger set count, where the access
+        // then changes nothing (Hill & Smith's set refinement), so the walk stops there.
+        for (size_t e = 0; e < set_stacks.size(); ++e) {
+          const uint32_t d = set_stacks[e].access(line);
+          if (d == 0) {
+            ++mru_from[e][f.tag];
+            break;
+          }
+          ++set_hist[e][d][f.tag];
+        }
+      }
+    }
+  }
+
+  // Hits of a cache that hits on every histogram entry below `n`.
+  static PerTag hits_below(const std::vector<PerTag>& hist, uint32_t n) {
+    PerTag h{};
+    for (uint32_t d = 0; d < n; ++d)
+      for (int t = 0; t < kTags; ++t) h[t] += hist[d][t];
+    return h;
+  }
+};
+
+CacheSweep::CacheSweep(const std::vector<CacheParams>& configs, uint64_t image_bytes,
+                       unsigned parts) {
+  // Group the LRU configurations by line size, then by set count.
+  std::map<uint32_t, std::map<uint64_t, uint32_t>> depth;  // line -> sets -> most ways
+  std::map<uint32_t, std::set<uint64_t>> full;             // line -> one-set capacities
+  for (const CacheParams& c : configs) {
+    if (c.policy != "lru") continue;
+    if (c.sets() == 1) {
+      full[c.line_bytes].insert(c.assoc);
+    } else {
+      uint32_t& d = depth[c.line_bytes][c.sets()];
+      d = std::max(d, c.assoc);
+    }
+  }
+  // Each line size's engines, split into up to `parts` groups of about equal work (the one-set
+  // stack counted as two set counts). A group walks its own set counts with its own early exit,
+  // so the split changes the work, never the counts.
+  struct Part {
+    int group;
+    std::set<uint64_t> sets;
+  };
+  std::map<uint32_t, std::vector<Part>> parts_of_line;
+  for (const CacheParams& c : configs) {
+    if (c.policy != "lru" || parts_of_line.count(c.line_bytes)) continue;
+    const uint32_t shift = static_cast<uint32_t>(std::countr_zero(c.line_bytes));
+    if ((image_bytes >> shift) >= UINT32_MAX - 1)
+      throw std::logic_error("CacheSweep: line numbers must fit 32 bits");
+    const auto full_it = full.find(c.line_bytes);
+    const auto& set_depths = depth[c.line_bytes];
+    const size_t weight = set_depths.size() + (full_it != full.end() ? 2 : 0);
+    const size_t n = std::max<size_t>(1, std::min<size_t>(std::max(1u, parts), weight));
+    auto next_sets = set_depths.begin();
+    size_t done = 0;
+    for (size_t part = 0; part < n; ++part) {
+      auto g = std::make_unique<LineGroup>();
+      g->shift = shift;
+      if (part == 0 && full_it != full.end()) {
+        g->full_capacities.assign(full_it->second.begin(), full_it->second.end());
+        g->full = std::make_unique<FullyAssocLruStack>(g->full_capacities,
+                                                       (image_bytes >> shift) + 1);
+        g->full_hist.assign(g->full_capacities.size() + 1, PerTag{});
+        done += 2;
+      }
+      Part p{static_cast<int>(groups_.size()), {}};
+      const size_t until = weight * (part + 1) / n;
+      for (; next_sets != set_depths.end() && (done < until || part + 1 == n); ++next_sets, ++done) {
+        const auto& [sets, ways] = *next_sets;
+        g->set_stacks.emplace_back(static_cast<uint32_t>(sets), ways);
+        g->set_hist.emplace_back(ways + 1, PerTag{});
+        g->mru_from.emplace_back();
+        p.sets.insert(sets);
+      }
+      parts_of_line[c.line_bytes].push_back(std::move(p));
+      groups_.push_back(std::move(g));
+    }
+  }
+  // Where each configuration's counts come from.
+  for (const CacheParams& c : configs) {
+    Where w;
+    if (c.policy == "lru") {
+      const std::vector<Part>& line_parts = parts_of_line.at(c.line_bytes);
+      w.line_group = line_parts.front().group;
+      for (const Part& p : line_parts)
+        if (p.sets.count(c.sets())) w.line_group = p.group;
+      const LineGroup& g = *groups_[w.line_group];
+      if (c.sets() == 1) {
+        const auto& caps = g.full_capacities;
+        w.level = static_cast<uint32_t>(std::find(caps.begin(), caps.end(), c.assoc) - caps.begin());
+      } else {
+        for (size_t e = 0; e < g.set_stacks.size(); ++e)
+          if (g.set_stacks[e].sets() == c.sets()) w.engine = static_cast<int>(e);
+        w.level = c.assoc;
+      }
+    } else {
+      w.side_cache = static_cast<int>(side_.size());
+      side_.push_back(SideCache{SetAssocCache(c)});
+    }
+    where_.push_back(w);
+  }
+}
+
+CacheSweep::~CacheSweep() = default;
+
+void CacheSweep::feed(std::span<const SweepFetch> fetches) {
+  // Task t < groups: a line-size group; then one per side-by-side cache.
+  const size_t tasks = groups_.size() + side_.size();
+  const auto run = [&](size_t t) {
+    if (t < groups_.size()) return groups_[t]->feed(fetches);
+    SideCache& s = side_[t - groups_.size()];
+    s.cache.visit([&](auto& cache) {
+      for (const SweepFetch& f : fetches) {
+        if (f.bytes == 0) continue;
+        const uint64_t before = cache.accesses();
+        s.misses[f.tag] += cache.access_range(f.addr, f.bytes);
+        s.accesses[f.tag] += cache.accesses() - before;
+      }
+    });
+  };
+  const size_t workers = std::min<size_t>(threads_, tasks);
+  if (workers <= 1) {
+    for (size_t t = 0; t < tasks; ++t) run(t);
+    return;
+  }
+  // Worker w takes tasks w, w + workers, ...; worker 0 is this thread.
+  std::vector<std::future<void>> others;
+  for (size_t w = 1; w < workers; ++w)
+    others.push_back(std::async(std::launch::async, [&, w] {
+      for (size_t t = w; t < tasks; t += workers) run(t);
+    }));
+  for (size_t t = 0; t < tasks; t += workers) run(t);
+  for (auto& f : others) f.get();
+}
+
+CacheSweep::PerTag CacheSweep::accesses(size_t i) const {
+  const Where& w = where_[i];
+  return w.side_cache >= 0 ? side_[w.side_cache].accesses : groups_[w.line_group]->accesses;
+}
+
+CacheSweep::PerTag CacheSweep::misses(size_t i) const {
+  const Where& w = where_[i];
+  if (w.side_cache >= 0) return side_[w.side_cache].misses;
+  const LineGroup& g = *groups_[w.line_group];
+  // A one-set cache of capacity index k hits in regions 0..k; a set stack of `ways` ways hits at
+  // distances below `ways`.
+  PerTag hits = w.engine < 0 ? LineGroup::hits_below(g.full_hist, w.level + 1)
+                             : LineGroup::hits_below(g.set_hist[w.engine], w.level);
+  if (w.engine >= 0)
+    for (int e = 0; e <= w.engine; ++e)
+      for (int t = 0; t < kTags; ++t) hits[t] += g.mru_from[e][t];
+  PerTag m{};
+  for (int t = 0; t < kTags; ++t) m[t] = g.accesses[t] - g.repeats[t] - hits[t];
+  return m;
+}
+
+}  // namespace rtusim

@@ -1,0 +1,70 @@
+// Many cache configurations over one fetch stream in one pass: the sweep's memory side.
+// LRU configurations of one line size share a stack-distance pass (SetLruStacks per set count,
+// FullyAssocLruStack for the one-set caches; the set counts of a line size may be split into
+// parts walked by different threads); FIFO, tree-PLRU and random are simulated side by
+// side, each in its own cache, over the same decoded stream. Every configuration counts exactly
+// what FetchCache counts for that cache: a fetch touching k lines is k accesses, in order.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "cache/cache_params.h"
+#include "cache/set_assoc_cache.h"
+#include "sweep/fully_assoc_lru_stack.h"
+#include "sweep/set_lru_stacks.h"
+
+namespace rtusim {
+
+// One fetch of a recorded chunk: `bytes` at `addr`, on stream `tag` (Stream as an int).
+struct SweepFetch {
+  uint64_t addr;
+  uint32_t bytes;
+  uint32_t tag;
+};
+
+class CacheSweep {
+ public:
+  static constexpr int kTags = 3;
+  using PerTag = std::array<uint64_t, kTags>;
+
+  // `configs` are valid (validate()); `image_bytes` bounds every address. The LRU set counts
+  // of each line size are split into up to `parts` groups of about equal work (one per thread
+  // that will feed it; one part walks fewest stacks).
+  CacheSweep(const std::vector<CacheParams>& configs, uint64_t image_bytes, unsigned parts = 1);
+  ~CacheSweep();
+
+  // Feeds a chunk of fetches, in order, to every configuration. The line-size groups and the
+  // side-by-side caches are independent: with threads() > 1 they share out the chunk's work
+  // (the counts are the same for any thread count).
+  void feed(std::span<const SweepFetch> fetches);
+  void set_threads(unsigned n) { threads_ = n ? n : 1; }
+  unsigned threads() const { return threads_; }
+
+  // Of configuration `i` (constructor order): line accesses and misses per tag.
+  PerTag accesses(size_t i) const;
+  PerTag misses(size_t i) const;
+  size_t size() const { return where_.size(); }
+
+ private:
+  struct LineGroup;  // LRU engines of one line size (all its set counts, or a part of them)
+  struct Where {     // how configuration i is evaluated
+    int line_group = -1;    // LRU: index into groups_
+    int engine = -1;        // LRU: -1 = the fully associative stack, else set_stacks index
+    uint32_t level = 0;     // LRU: ways (set stacks) or capacity index (fully associative)
+    int side_cache = -1;    // other policies: index into side_
+  };
+  struct SideCache {
+    SetAssocCache cache;
+    PerTag accesses{}, misses{};
+  };
+
+  std::vector<std::unique_ptr<LineGroup>> groups_;
+  std::vector<SideCache> side_;
+  std::vector<Where> where_;
+  unsigned threads_ = 1;
+};
+
+}  // namespace rtusim

@@ -1,0 +1,122 @@
+#!/usr/bin/env bash
+# rtusim sweep end to end: every point equals its own `rtusim run` (every policy, line size,
+# "full", the data cache, subtree with 32-byte lines, a timed point); the product and a group
+# expand as specified; kills at several moments then a rerun give results.csv byte for byte;
+# a changed spec in an existing DIR and every bad spec exit 2 with one line, leaving nothing.
+set -uo pipefail
+rtusim=$1; src=$2
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+py=${RTUSIM_PYTHON:-python3}
+pass=0; fail=0
+ok() { pass=$((pass+1)); }
+bad() { echo "FAIL $*"; fail=$((fail+1)); }
+
+# 1. Exactness against `rtusim run`, point by point.
+cat > "$tmp/exact.toml" <<'TOML'
+[image]
+width = 40
+height = 40
+png = false
+[sweep]
+layout.kind = ["dfl", "subtree"]
+l1.policy = ["lru", "fifo", "tree-plru", "random"]
+l1.line = [32, 64, 128]
+l1.assoc = [1, 4, "full"]
+l1.size = [1024, 8192]
+TOML
+"$rtusim" sweep "$tmp/exact.toml" --out "$tmp/exact" --no-plots > /dev/null || bad "exact sweep failed"
+rows=$(($(wc -l < "$tmp/exact/results.csv") - 1))
+[ "$rows" -eq 144 ] && ok || bad "product: $rows rows, want 2x4x3x3x2 = 144"
+"$py" "$src/tests/cli/sweep_check.py" "$rtusim" "$tmp/exact" 5 \
+  layout.kind,l1.policy,l1.line,l1.assoc,l1.size && ok || bad "exact: sweep differs from rtusim run"
+
+# 2. The data cache, a group of keys that vary together, and a timed point.
+cat > "$tmp/group.toml" <<'TOML'
+[image]
+width = 32
+height = 32
+png = false
+[dcache]
+enable = true
+[sweep]
+layout.kind = ["odfl", "subtree"]
+l1.line = [32]
+dcache.policy = ["lru", "fifo"]
+dcache.line = [32, 128]
+dcache.assoc = [2, "full"]
+dcache.size = [2048, 16384]
+[[sweep.group.g]]
+tracer.max_depth = 2
+[[sweep.group.g]]
+tracer.max_depth = 1
+sim.tier = "cycle"
+TOML
+"$rtusim" sweep "$tmp/group.toml" --out "$tmp/group" --no-plots > /dev/null || bad "group sweep failed"
+rows=$(($(wc -l < "$tmp/group/results.csv") - 1))
+[ "$rows" -eq 64 ] && ok || bad "group product: $rows rows, want 2 entries x 2x2x2x2x2 = 64"
+head -1 "$tmp/group/results.csv" | grep -q '^sim.tier,tracer.max_depth,layout.kind,l1.line,dcache.policy,dcache.line,dcache.assoc,dcache.size,' \
+  && ok || bad "group columns: $(head -1 "$tmp/group/results.csv" | cut -c1-120)"
+[ "$(grep -c ',cycle\|^cycle,' "$tmp/group/results.csv")" -eq 32 ] && ok || bad "group: want 32 cycle rows"
+"$py" "$src/tests/cli/sweep_check.py" "$rtusim" "$tmp/group" 3 \
+  sim.tier,tracer.max_depth,layout.kind,l1.line,dcache.policy,dcache.line,dcache.assoc,dcache.size \
+  && ok || bad "group: sweep differs from rtusim run"
+
+# 3. Resume: killed (with its jobs) at several moments, then rerun: the same results.csv.
+cat > "$tmp/resume.toml" <<'TOML'
+[image]
+width = 40
+height = 40
+png = false
+[sweep]
+tracer.max_depth = [0, 1, 2, 3, 4, 5]
+layout.kind = ["dfl", "odfl"]
+l1.assoc = [2, "full"]
+l1.size = [2048, 4096]
+TOML
+"$rtusim" sweep "$tmp/resume.toml" --out "$tmp/whole" --no-plots > /dev/null || bad "resume reference failed"
+for delay in 0.05 0.3 0.6 0.9 1.4; do
+  rm -rf "$tmp/killed"
+  setsid "$rtusim" sweep "$tmp/resume.toml" --out "$tmp/killed" --threads 2 --no-plots > /dev/null 2>&1 &
+  pid=$!
+  sleep "$delay"
+  kill -KILL -- -"$pid" 2> /dev/null
+  wait "$pid" 2> /dev/null
+  for _ in 1 2; do  # a second kill mid-rerun, then a rerun to the end
+    setsid "$rtusim" sweep "$tmp/resume.toml" --out "$tmp/killed" --threads 2 --no-plots > /dev/null 2>&1 &
+    pid=$!; sleep 0.2; kill -KILL -- -"$pid" 2> /dev/null; wait "$pid" 2> /dev/null
+  done
+  "$rtusim" sweep "$tmp/resume.toml" --out "$tmp/killed" --no-plots > /dev/null || bad "resume after $delay s failed"
+  cmp -s "$tmp/whole/results.csv" "$tmp/killed/results.csv" && ok || bad "resume after $delay s: results.csv differs"
+done
+
+# 4. A changed spec in a directory holding a sweep; bad specs. Exit 2, one line, no output.
+expect_bad() {
+  local name=$1 pattern=$2 spec=$3 out=$4
+  "$rtusim" sweep "$spec" --out "$out" --no-plots > /dev/null 2> "$tmp/stderr"
+  local rc=$?
+  if [ $rc -ne 2 ]; then bad "$name: exit $rc, want 2"; cat "$tmp/stderr"; return; fi
+  if [ "$(wc -l < "$tmp/stderr")" -ne 1 ]; then bad "$name: not one stderr line"; cat "$tmp/stderr"; return; fi
+  if ! grep -qE -- "$pattern" "$tmp/stderr"; then bad "$name: stderr lacks /$pattern/"; cat "$tmp/stderr"; return; fi
+  ok
+}
+sed 's/l1.size = \[2048, 4096\]/l1.size = [2048, 8192]/' "$tmp/resume.toml" > "$tmp/changed.toml"
+expect_bad changed_spec 'holds a different sweep' "$tmp/changed.toml" "$tmp/whole"
+spec_with() { printf '[image]\nwidth = 16\nheight = 16\n[sweep]\n%s\n' "$2" > "$tmp/$1.toml"; }
+spec_with unknown 'l1.sise = [1024]'
+expect_bad unknown_key 'unknown.toml: \[sweep\] l1.sise = 1024: l1.sise: unknown key' "$tmp/unknown.toml" "$tmp/none"
+spec_with empty 'l1.size = []'
+expect_bad empty_list 'empty.toml: \[sweep\] l1.size: empty list' "$tmp/empty.toml" "$tmp/none"
+spec_with value 'l1.policy = ["lru", "mru"]'
+expect_bad invalid_value "value.toml: \[sweep\] l1.policy = mru: l1.policy: unknown value 'mru'" "$tmp/value.toml" "$tmp/none"
+spec_with notlist 'l1.size = 1024'
+expect_bad not_a_list 'notlist.toml: \[sweep\] l1.size = 1024: expected a list' "$tmp/notlist.toml" "$tmp/none"
+spec_with point $'l1.size = [1024]\nl1.line = [128]\nl1.assoc = [16]'
+expect_bad invalid_point 'point.toml: \[sweep\] point 0 \(l1.line = 128, l1.assoc = 16, l1.size = 1024\): l1.size: 1024 is smaller than l1.line x l1.assoc' "$tmp/point.toml" "$tmp/none"
+spec_with scene $'[[sweep.group.s]]\nscene.path = "nowhere.gltf"'
+expect_bad missing_scene 'scene.toml: \[sweep.group.s\] scene.path = nowhere.gltf: scene.path: .*nowhere.gltf not found' "$tmp/scene.toml" "$tmp/none"
+printf '[image]\nwidth = 16\n' > "$tmp/nosweep.toml"
+expect_bad no_sweep_table 'nosweep.toml: \[sweep\]: missing' "$tmp/nosweep.toml" "$tmp/none"
+[ -e "$tmp/none" ] && bad "a bad spec left $tmp/none" || ok
+
+echo "sweep: $pass passed, $fail failed"
+[ "$fail" -eq 0 ]
