@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "config/config_reader.h"
-#include "config/run_config.h"
+#include "app/run_config.h"
 #include "fuzz_util.h"
 #include "util/error.h"
 

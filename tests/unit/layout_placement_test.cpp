@@ -40,8 +40,8 @@ std::vector<uint64_t> addresses(const MemoryImage& image, const KdTree& tree) {
     const auto [i, addr] = stack.back();
     stack.pop_back();
     addr_of[i] = addr;
-    const NodeView v = with_layout_decoder(
-        image, [&]<class D>() { return D::decode(image, addr); });
+    const uint64_t at = addr;  // a structured binding cannot be captured (C++20 as clang reads it)
+    const NodeView v = with_layout_decoder(image, [&]<class D>() { return D::decode(image, at); });
     const KdNode& n = tree.nodes[i];
     EXPECT_EQ(v.leaf, n.is_leaf()) << image.layout << " node " << i;
     if (v.leaf != n.is_leaf()) continue;
