@@ -122,10 +122,7 @@ void run_functional(const SweepPlan& plan, const SweepJob& job, const std::strin
 }  // namespace
 
 bool is_timing_key(const std::string& key) {
-  const auto ends = [&](const std::string& s) {
-    return key.size() >= s.size() && key.compare(key.size() - s.size(), s.size(), s) == 0;
-  };
-  return ends("seconds") || key == "trace.rays_per_second";
+  return key.ends_with("seconds") || key == "trace.rays_per_second";
 }
 
 nlohmann::json run_sweep_job(const SweepPlan& plan, size_t job, const std::string& base_path,

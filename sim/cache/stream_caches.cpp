@@ -46,7 +46,7 @@ void FetchCache::write_stats(const Counters& counters, bool data_cache_on, Stats
     stats.set(stem + ".misses", c.misses);
     stats.set(std::string("dram.bytes.") + stream_stats_name(s), c.dram_bytes);
   }
-  stats.set("dram.bytes.total", counters[0].dram_bytes + counters[1].dram_bytes + counters[2].dram_bytes);
+  stats.set("dram.bytes.total", dram_bytes_total(counters));
 }
 
 }  // namespace rtusim

@@ -80,8 +80,9 @@ class FetchCache {
   }
 
   const StreamCounters& stream(Stream s) const { return counters_[static_cast<int>(s)]; }
-  uint64_t dram_bytes_total() const {
-    return counters_[0].dram_bytes + counters_[1].dram_bytes + counters_[2].dram_bytes;
+  uint64_t dram_bytes_total() const { return dram_bytes_total(counters_); }
+  static uint64_t dram_bytes_total(const Counters& c) {
+    return c[0].dram_bytes + c[1].dram_bytes + c[2].dram_bytes;
   }
   const SetAssocCache& node_l1() const { return node_l1_; }
   const SetAssocCache* data_cache() const { return data_cache_ ? &*data_cache_ : nullptr; }

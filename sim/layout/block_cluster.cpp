@@ -15,13 +15,12 @@ std::vector<uint32_t> BlockCluster::pack(const KdTree& tree, const std::vector<d
   constexpr uint32_t kNone = ~0u;
   struct Root {
     uint32_t first, second;  // second: the above sibling of a pair root, or kNone
-    double priority;
   };
   const auto before = [&](uint32_t a, uint32_t b) {  // true when b goes before a
     return priority[a] != priority[b] ? priority[a] < priority[b] : a > b;
   };
   std::priority_queue<uint32_t, std::vector<uint32_t>, decltype(before)> candidates(before);
-  std::vector<Root> pending{{0u, kNone, priority[0]}};  // next on top
+  std::vector<Root> pending{{0u, kNone}};  // next on top
   std::vector<uint32_t> slot_of(tree.nodes.size(), kNone);
   std::vector<uint8_t> hanging(tree.nodes.size(), 0);
   std::vector<uint32_t> parent(tree.nodes.size(), 0);
@@ -76,9 +75,9 @@ std::vector<uint32_t> BlockCluster::pack(const KdTree& tree, const std::vector<d
       const uint32_t sibling = c == p.below ? p.above : p.below;
       if (hanging[sibling]) {
         hanging[sibling] = 0;
-        roots.push_back({p.below, p.above, priority[c]});
+        roots.push_back({p.below, p.above});
       } else {
-        roots.push_back({c, kNone, priority[c]});
+        roots.push_back({c, kNone});
       }
     }
     pending.insert(pending.end(), roots.rbegin(), roots.rend());

@@ -6,9 +6,7 @@
 namespace rtusim {
 
 MemoryImage ClusterLayout::build_image(const KdTree& tree, const Scene& scene) const {
-  std::vector<double> priority = node_surface_areas(tree);
-  const double root_area = priority[0] > 0.0 ? priority[0] : 1.0;
-  for (double& p : priority) p /= root_area;
+  const std::vector<double> priority = node_area_probabilities(tree);
   uint64_t slots = 0;
   const std::vector<uint32_t> slot_of = BlockCluster::pack(tree, priority, slots);
   return BlockCluster::write(tree, scene, "cluster", slot_of, slots);

@@ -37,10 +37,9 @@ CameraDesc ProfileLayout::training_camera(const CameraDesc& camera, const Bounds
 }
 
 MemoryImage ProfileLayout::build_image(const KdTree& tree, const Scene& scene) const {
-  std::vector<double> priority = node_surface_areas(tree);
-  const double root_area = priority[0] > 0.0 ? priority[0] : 1.0;
-  for (uint32_t i = 0; i < priority.size(); ++i)
-    priority[i] = priority[i] / root_area + (i < visits_.size() ? double(visits_[i]) : 0.0);
+  std::vector<double> priority = node_area_probabilities(tree);
+  for (uint32_t i = 0; i < priority.size() && i < visits_.size(); ++i)
+    priority[i] += double(visits_[i]);
   uint64_t slots = 0;
   const std::vector<uint32_t> slot_of = BlockCluster::pack(tree, priority, slots);
   return BlockCluster::write(tree, scene, "profile", slot_of, slots);

@@ -24,6 +24,15 @@ inline std::vector<double> node_surface_areas(const KdTree& tree) {
   return area;
 }
 
+// Every node's surface area over the root's (the probability that a ray through the root box
+// also crosses the node's box, as ODFL orders children); 1 for a flat root.
+inline std::vector<double> node_area_probabilities(const KdTree& tree) {
+  std::vector<double> p = node_surface_areas(tree);
+  const double root_area = p[0] > 0.0 ? p[0] : 1.0;
+  for (double& v : p) v /= root_area;
+  return p;
+}
+
 // Number of nodes in every node's subtree (itself included).
 inline std::vector<uint32_t> subtree_node_counts(const KdTree& tree) {
   std::vector<uint32_t> count(tree.nodes.size(), 1), preorder{0};

@@ -13,10 +13,6 @@ namespace {
 const char* const kRayKeys[kRayKinds] = {"rays.primary", "rays.shadow", "rays.reflection",
                                          "rays.refraction"};
 
-bool ends_with(const std::string& s, const std::string& tail) {
-  return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
-}
-
 // Figures whose layout differences get a paired CI.
 const char* const kPairedKeys[] = {"dram.bytes.nodes", "dram.bytes.total", "l1.misses",
                                    "sim.cycles"};
@@ -30,7 +26,7 @@ bool SampledFrame::is_extensive(const std::string& key) {
   if (key.rfind("l1.", 0) == 0 || key.rfind("dcache.", 0) == 0)
     for (const char* tail : {".accesses", ".hits", ".misses", ".primary_misses", ".merged_misses",
                              ".mshr_stall_cycles"})
-      if (ends_with(key, tail)) return true;
+      if (key.ends_with(tail)) return true;
   return false;
 }
 

@@ -132,6 +132,14 @@ namespace detail {
   }
 }
 
+// Fetches the ray's next node (reported to the sink) and decodes it from the image.
+template <class Decoder, class Sink>
+[[gnu::always_inline]] inline NodeView fetch_node(const TraversalState& s, const MemoryImage& image,
+                                                  Sink& sink) {
+  sink.fetch(Stream::kNode, s.node, image.node_bytes);
+  return Decoder::decode(image, s.node);
+}
+
 // A leaf's step: fetches its list (if any) and triangles, tests each, then pops or finishes.
 template <class Sink>
 [[gnu::always_inline]] inline void leaf_step(TraversalState& s, const MemoryImage& image,
@@ -166,8 +174,7 @@ template <class Sink>
 template <class Decoder, class Sink>
 [[gnu::always_inline]] inline StepKind traversal_step(TraversalState& s, const MemoryImage& image, Sink& sink) {
   if (s.done) return StepKind::kDone;
-  sink.fetch(Stream::kNode, s.node, image.node_bytes);
-  const NodeView n = Decoder::decode(image, s.node);
+  const NodeView n = detail::fetch_node<Decoder>(s, image, sink);
   if (!n.leaf) [[likely]] {
     detail::interior_step(s, n);
     return StepKind::kInterior;
@@ -183,12 +190,10 @@ inline Hit traverse(const MemoryImage& image, const Ray& ray, bool any_hit, Sink
   traversal_begin(s, image, ray, any_hit);
   // The step function's visits, as an inner descent loop over interior nodes and one leaf.
   while (!s.done) {
-    sink.fetch(Stream::kNode, s.node, image.node_bytes);
-    NodeView n = Decoder::decode(image, s.node);
+    NodeView n = detail::fetch_node<Decoder>(s, image, sink);
     while (!n.leaf) {
       detail::interior_step(s, n);
-      sink.fetch(Stream::kNode, s.node, image.node_bytes);
-      n = Decoder::decode(image, s.node);
+      n = detail::fetch_node<Decoder>(s, image, sink);
     }
     detail::leaf_step(s, image, n, sink);
   }
