@@ -67,13 +67,4 @@ CacheParams read_cache_params(ConfigReader& r, const std::string& prefix) {
 
 bool read_dcache_enable(ConfigReader& r) { return kDcacheEnable.read(r); }
 
-FetchCacheParams read_fetch_cache_params(ConfigReader& r) {
-  FetchCacheParams p;
-  p.node_l1 = kL1Keys.read(r);
-  const bool dcache_on = kDcacheEnable.read(r);
-  const CacheParams dcache = kDcacheKeys.read(r);
-  if (dcache_on) p.data_cache = dcache;
-  return p;
-}
-
 }  // namespace rtusim

@@ -5,7 +5,6 @@
 #include <string>
 
 #include "cache/cache_params.h"
-#include "cache/stream_caches.h"
 #include "config/config_reader.h"
 
 namespace rtusim {
@@ -16,8 +15,5 @@ CacheParams read_cache_params(ConfigReader& r, const std::string& prefix);
 
 // dcache.enable.
 bool read_dcache_enable(ConfigReader& r);
-
-// The node L1 (l1.*) and the data cache (dcache.*; on only when dcache.enable = true).
-FetchCacheParams read_fetch_cache_params(ConfigReader& r);
 
 }  // namespace rtusim

@@ -160,15 +160,14 @@ uint32_t le_u32(const unsigned char* p) {
   return uint32_t{p[0]} | uint32_t{p[1]} << 8 | uint32_t{p[2]} << 16 | uint32_t{p[3]} << 24;
 }
 
-// What tinygltf would trip over, checked first: a .glb's header and version, and JSON nested so
-// deep that the recursive JSON parser would overflow the stack.
-void check_json_before_parse(const std::string& path, bool glb, const SceneLimits& limits) {
-  std::ifstream in(path, std::ios::binary);
-  std::string json;
+// What tinygltf would trip over, checked first on the file's bytes: a .glb's header and version,
+// and JSON nested so deep that the recursive JSON parser would overflow the stack.
+void check_json_before_parse(const std::string& path, std::string_view file, bool glb,
+                             const SceneLimits& limits) {
+  std::string_view json = file;
   if (glb) {
-    unsigned char head[20] = {};
-    in.read(reinterpret_cast<char*>(head), sizeof head);
-    if (in.gcount() < 20) throw InputError(path + ": truncated .glb (" + std::to_string(in.gcount()) +
+    const auto* head = reinterpret_cast<const unsigned char*>(file.data());
+    if (file.size() < 20) throw InputError(path + ": truncated .glb (" + std::to_string(file.size()) +
                                            " bytes, shorter than its 20-byte header)");
     if (std::memcmp(head, "glTF", 4) != 0) throw InputError(path + ": not a .glb (bad magic)");
     if (le_u32(head + 4) != 2)
@@ -177,13 +176,7 @@ void check_json_before_parse(const std::string& path, bool glb, const SceneLimit
     const uint32_t json_bytes = le_u32(head + 12);
     if (le_u32(head + 16) != 0x4E4F534Au)
       throw InputError(path + ": .glb's first chunk is not JSON");
-    if (json_bytes > limits.max_scene_bytes)
-      throw InputError(path + ": .glb JSON chunk of " + std::to_string(json_bytes) + " bytes");
-    json.resize(json_bytes);
-    in.read(json.data(), json_bytes);
-    json.resize(static_cast<size_t>(in.gcount()));
-  } else {
-    json.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    json = file.substr(20, json_bytes);
   }
   if (json_depth(json, limits.max_json_depth) > limits.max_json_depth)
     throw InputError(path + ": JSON nested deeper than " + std::to_string(limits.max_json_depth) +
@@ -653,16 +646,30 @@ Scene load_gltf(const std::string& path, const SceneLimits& limits) {
   if (file_bytes > limits.max_scene_bytes)
     throw InputError(path + ": " + std::to_string(file_bytes >> 20) + " MiB file, over the limit of " +
                      std::to_string(limits.max_scene_bytes >> 20) + " MiB (RTUSIM_MAX_SCENE_MB)");
-  check_json_before_parse(path, ext == ".glb", limits);
+  // The file is read once: checked, then parsed from memory.
+  std::string file;
+  {
+    std::ifstream in(path, std::ios::binary);
+    file.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    if (in.bad()) throw InputError(path + ": cannot read the file");
+  }
+  const bool glb = ext == ".glb";
+  check_json_before_parse(path, file, glb, limits);
 
   // Parse with tinygltf; images are left undecoded and a missing image is only a warning.
+  // External buffers and images are found beside the file.
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(&skip_image, nullptr);
   tinygltf::Model model;
   std::string err;
   std::string warn;
-  const bool ok = ext == ".glb" ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
-                                : loader.LoadASCIIFromFile(&model, &err, &warn, path);
+  const std::string base_dir = std::filesystem::path(path).parent_path().string();
+  const bool ok =
+      glb ? loader.LoadBinaryFromMemory(&model, &err, &warn,
+                                        reinterpret_cast<const unsigned char*>(file.data()),
+                                        static_cast<unsigned>(file.size()), base_dir)
+          : loader.LoadASCIIFromString(&model, &err, &warn, file.data(),
+                                       static_cast<unsigned>(file.size()), base_dir);
   if (!ok)
     throw InputError(path + ": cannot parse glTF: " + one_line(err.empty() ? "unknown error" : err));
 

@@ -3,12 +3,21 @@
 
 #include <gtest/gtest.h>
 
-#include "cache/cache_config.h"
+#include "app/run_config.h"
 #include "config/config_reader.h"
+#include "mem/l1_params.h"
 #include "util/error.h"
 
 namespace rtusim {
 namespace {
+
+// The caches of a run as RunConfig derives them from the l1.* and dcache.* keys.
+FetchCacheParams read_fetch_cache_params(ConfigReader& r) {
+  RunConfig c;
+  c.l1 = read_node_l1_config(r);
+  c.dcache = read_dcache_config(r);
+  return c.fetch_caches();
+}
 
 std::string read_error(const std::string& toml) {
   ConfigReader r = ConfigReader::from_string(toml, "test.toml");
