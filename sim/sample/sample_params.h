@@ -31,6 +31,8 @@ struct SampleParams {
   SampleWarmup warmup = SampleWarmup::kFunctional;
   std::string warmup_name = "functional";
   int warmup_pixels = 64;   // pixels traced unmeasured before each run of a unit's pixels
+  int warmup_rays = 128;    // wavefront order: rays traced unmeasured before each run of a
+                            // unit's rays in a batch
   int unit_pixels = 32;     // pixels per sampling unit
   int strata = 1;           // the strata grid's side (strata x strata blocks); the stratified
                             // method's default is 4
