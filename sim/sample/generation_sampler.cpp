@@ -40,6 +40,7 @@ void GenerationSampler::warm(std::span<const RayRecord> batch, std::span<const H
     }
   }
   send(rays, expected);
+  rays_warmed_ += rays.size();
 }
 
 void GenerationSampler::trace(std::span<const RayRecord> rays, std::span<Hit> hits) {

@@ -33,6 +33,7 @@ class GenerationSampler final : public TraceBackend {
   // Each drawn unit's extensive figures (key -> sum over its runs), and rays.* it traced.
   const std::vector<std::map<std::string, double>>& unit_values() const { return values_; }
   uint64_t rays_measured() const { return rays_measured_; }
+  uint64_t rays_warmed() const { return rays_warmed_; }
 
  private:
   // Sends rays through the tier (their hits must be the plain traversal's).
@@ -47,6 +48,7 @@ class GenerationSampler final : public TraceBackend {
   int warm_rays_;
   std::vector<std::map<std::string, double>> values_;
   uint64_t rays_measured_ = 0;
+  uint64_t rays_warmed_ = 0;
   uint64_t batch_start_ = 0;   // sequence index of the current batch's first ray
   uint64_t next_unsent_ = 0;   // sequence index after the last ray the tier traced
   std::vector<RayRecord> tail_;  // the last warm_rays_ rays of the previous batches

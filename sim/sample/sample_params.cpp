@@ -25,10 +25,12 @@ const StringParam kTargetKey("sample.target_key", kSample.target_key, {}, "",
                              "the extensive figure sample.target_ci applies to (\"\": every "
                              "one)");
 const StringParam kWarmup("sample.warmup", kSample.warmup_name, {"none", "functional"}, "",
-                          "functional: trace sample.warmup_pixels pixels unmeasured before each "
-                          "run of a unit's pixels");
+                          "functional: trace sample.warmup_pixels pixels (wavefront order: "
+                          "sample.warmup_rays rays) unmeasured before each run of a unit's "
+                          "pixels (rays)");
 const IntParam kWarmupPixels("sample.warmup_pixels", kSample.warmup_pixels, 0, 1 << 24, "pixels",
-                             "pixels traced unmeasured before each run of a unit's pixels");
+                             "recursive order: pixels traced unmeasured before each run of a "
+                             "unit's pixels");
 const IntParam kWarmupRays("sample.warmup_rays", kSample.warmup_rays, 0, 1 << 24, "rays",
                             "wavefront order: rays of the frame's sequence traced unmeasured "
                             "before each run of a unit's rays in a generation's batch");

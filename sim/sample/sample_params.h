@@ -17,8 +17,9 @@ enum class SampleMethod {
 
 enum class SampleWarmup {
   kNone,        // a unit starts with whatever the previous unit left in the caches
-  kFunctional,  // the sample.warmup_pixels pixels before each run of a unit's pixels are traced
-                // first, unmeasured (SMARTS-style warming of the caches)
+  kFunctional,  // the sample.warmup_pixels pixels before each run of a unit's pixels (wavefront
+                // order: the sample.warmup_rays rays before each run of a unit's rays in a
+                // batch) are traced first, unmeasured (SMARTS-style warming of the caches)
 };
 
 struct SampleParams {

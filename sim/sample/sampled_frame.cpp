@@ -70,6 +70,7 @@ void SampledFrame::trace_generations(const Scene& scene, const TracerParams& tra
     if (&sample == &layouts_.front()) strata_taken_.push_back(plan_.stratum[units[k]]);
   }
   sample.rays_simulated += sampler.rays_measured();
+  sample.rays_warmed += sampler.rays_warmed();
 }
 
 void SampledFrame::trace_units(WhittedTracer& tracer, const PinholeCamera& camera,
@@ -150,7 +151,7 @@ FrameResult SampledFrame::render(const Scene& scene, const TracerParams& tracer_
                                  const MemoryImage& image, const std::string& layout,
                                  double& seconds) {
   const auto t0 = std::chrono::steady_clock::now();
-  layouts_.push_back(LayoutSample{layout, {}, 0, 0.0});
+  layouts_.push_back(LayoutSample{layout, {}, 0, 0, 0.0});
   LayoutSample& sample = layouts_.back();
   WhittedTracer tracer(scene, tracer_params, tier.backend());
   FrameResult frame = tracer.begin_frame(camera, width_, height_);
@@ -205,6 +206,7 @@ void SampledFrame::finish_layout(FrameResult& frame, Stats& stats) const {
     stats.set(key + ".ci95_high", e.ci_high());
   }
   if (order_ == RayOrder::kWavefront) {
+    stats.set("sample.rays_warmed", sample.rays_warmed);
     // Per generation the whole frame is traced: its ray counts are exact, not estimates.
     for (int k = 0; k <= kRayKinds; ++k) {
       const std::string key = k < kRayKinds ? kRayKeys[k] : "rays.total";

@@ -52,6 +52,7 @@ class SampledFrame {
     std::string layout;
     std::map<std::string, std::vector<double>> values;  // key -> per-unit figure, drawing order
     uint64_t rays_simulated = 0;
+    uint64_t rays_warmed = 0;  // wavefront order: rays sent through the tier unmeasured
     double seconds = 0.0;
   };
 
