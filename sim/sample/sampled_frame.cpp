@@ -170,7 +170,10 @@ FrameResult SampledFrame::render(const Scene& scene, const TracerParams& tracer_
       n = std::min(cap, std::max<size_t>(params_.min_units, 2 * plan_.stratum_units.size()));
     trace_round(0, n);
     rounds_.push_back(n);
-    if (!params_.target_key.empty() && !sample.values.count(params_.target_key))
+    // In wavefront order rays.* are counted exactly: a target on them is met at once.
+    const bool exact_key =
+        order_ == RayOrder::kWavefront && params_.target_key.rfind("rays.", 0) == 0;
+    if (!params_.target_key.empty() && !exact_key && !sample.values.count(params_.target_key))
       throw InputError(params_.origin + ": sample.target_key: '" + params_.target_key +
                        "' is not measured by this tier");
     while (params_.target_ci > 0.0 && n < cap) {
