@@ -118,9 +118,8 @@ SimulationResult simulate(const Prepared& p) {
     }
     const std::unique_ptr<TierRun> tier = make_tier(p.config.sim.tier, image, tier_config);
     if (sampler) {
-      WhittedTracer tracer(p.scene, p.config.tracer, tier->backend());
-      runs[i].frame = sampler->render(tracer, PinholeCamera(p.camera, w, h), *tier, image.layout,
-                                      runs[i].seconds);
+      runs[i].frame = sampler->render(p.scene, p.config.tracer, PinholeCamera(p.camera, w, h),
+                                      *tier, image, image.layout, runs[i].seconds);
     } else {
       runs[i].frame = render_timed(p, tier->backend(), image.layout, !concurrent, runs[i].seconds);
     }

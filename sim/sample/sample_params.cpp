@@ -25,10 +25,15 @@ const StringParam kTargetKey("sample.target_key", kSample.target_key, {}, "",
                              "the extensive figure sample.target_ci applies to (\"\": every "
                              "one)");
 const StringParam kWarmup("sample.warmup", kSample.warmup_name, {"none", "functional"}, "",
-                          "functional: trace sample.warmup_pixels pixels unmeasured before each "
-                          "run of a unit's pixels");
+                          "functional: trace sample.warmup_pixels pixels (wavefront order: "
+                          "sample.warmup_rays rays) unmeasured before each run of a unit's "
+                          "pixels (rays)");
 const IntParam kWarmupPixels("sample.warmup_pixels", kSample.warmup_pixels, 0, 1 << 24, "pixels",
-                             "pixels traced unmeasured before each run of a unit's pixels");
+                             "recursive order: pixels traced unmeasured before each run of a "
+                             "unit's pixels");
+const IntParam kWarmupRays("sample.warmup_rays", kSample.warmup_rays, 0, 1 << 24, "rays",
+                            "wavefront order: rays of the frame's sequence traced unmeasured "
+                            "before each run of a unit's rays in a generation's batch");
 const IntParam kUnitPixels("sample.unit_pixels", kSample.unit_pixels, 1, 1 << 20, "pixels",
                            "pixels per sampling unit");
 const IntParam kStrata("sample.strata", kSample.strata, 1, 256, "",
@@ -59,6 +64,7 @@ SampleParams read_sample_params(ConfigReader& r) {
   s.warmup_name = kWarmup.read(r);
   s.warmup = s.warmup_name == "none" ? SampleWarmup::kNone : SampleWarmup::kFunctional;
   s.warmup_pixels = static_cast<int>(kWarmupPixels.read(r));
+  s.warmup_rays = static_cast<int>(kWarmupRays.read(r));
   s.unit_pixels = static_cast<int>(kUnitPixels.read(r));
   // Strata by default only for the stratified method: with tiles they narrow the CIs a little
   // but cost coverage in heavy-tailed scenes (docs/accuracy.md).

@@ -17,8 +17,9 @@ enum class SampleMethod {
 
 enum class SampleWarmup {
   kNone,        // a unit starts with whatever the previous unit left in the caches
-  kFunctional,  // the sample.warmup_pixels pixels before each run of a unit's pixels are traced
-                // first, unmeasured (SMARTS-style warming of the caches)
+  kFunctional,  // the sample.warmup_pixels pixels before each run of a unit's pixels (wavefront
+                // order: the sample.warmup_rays rays before each run of a unit's rays in a
+                // batch) are traced first, unmeasured (SMARTS-style warming of the caches)
 };
 
 struct SampleParams {
@@ -31,6 +32,8 @@ struct SampleParams {
   SampleWarmup warmup = SampleWarmup::kFunctional;
   std::string warmup_name = "functional";
   int warmup_pixels = 64;   // pixels traced unmeasured before each run of a unit's pixels
+  int warmup_rays = 128;    // wavefront order: rays traced unmeasured before each run of a
+                            // unit's rays in a batch
   int unit_pixels = 32;     // pixels per sampling unit
   int strata = 1;           // the strata grid's side (strata x strata blocks); the stratified
                             // method's default is 4

@@ -4,7 +4,11 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 
+#include "sample/generation_sampler.h"
+#include "tracer/host_backend.h"
+#include "tracer/parallel_render.h"
 #include "util/error.h"
 
 namespace rtusim {
@@ -35,13 +39,45 @@ SampledFrame::SampledFrame(const SampleParams& params, int width, int height, Ra
       plan_(make_unit_plan(params, width, height)),
       estimator_(plan_.stratum_units, params.min_units) {}
 
+std::vector<uint32_t> SampledFrame::round_units(size_t from, size_t to) const {
+  std::vector<uint32_t> units(plan_.order.begin() + from, plan_.order.begin() + to);
+  std::sort(units.begin(), units.end(),
+            [&](uint32_t a, uint32_t b) { return plan_.units[a][0] < plan_.units[b][0]; });
+  return units;
+}
+
+void SampledFrame::trace_generations(const Scene& scene, const TracerParams& tracer,
+                                     const PinholeCamera& camera, TierRun& tier,
+                                     const MemoryImage& image, size_t from, size_t to,
+                                     FrameResult& frame, LayoutSample& sample) {
+  const std::vector<uint32_t> units = round_units(from, to);
+  std::vector<int32_t> unit_of_pixel(size_t(width_) * height_, -1);
+  for (size_t k = 0; k < units.size(); ++k)
+    for (const uint32_t p : plan_.units[units[k]]) unit_of_pixel[p] = static_cast<int32_t>(k);
+  // Every ray's hit by plain traversal, on every core when there are several.
+  HostBackend host(image);
+  std::optional<ParallelBackend> parallel;
+  if (parallel_threads() > 1) parallel.emplace(host);
+  TraceBackend& plain = parallel ? static_cast<TraceBackend&>(*parallel) : host;
+  const bool warm = params_.warmup == SampleWarmup::kFunctional;
+  GenerationSampler sampler(plain, tier, std::move(unit_of_pixel), static_cast<int>(units.size()),
+                            warm ? params_.warmup_rays : 0);
+  frame = WhittedTracer(scene, tracer, sampler).render(camera, width_, height_);
+  // Figures in this round's order, the same for every layout (every unit has a primary ray
+  // per pixel, so every unit has every key).
+  for (size_t k = 0; k < units.size(); ++k) {
+    for (const auto& [key, value] : sampler.unit_values()[k]) sample.values[key].push_back(value);
+    if (&sample == &layouts_.front()) strata_taken_.push_back(plan_.stratum[units[k]]);
+  }
+  sample.rays_simulated += sampler.rays_measured();
+  sample.rays_warmed += sampler.rays_warmed();
+}
+
 void SampledFrame::trace_units(WhittedTracer& tracer, const PinholeCamera& camera,
                                const TierRun& tier, size_t from, size_t to,
                                FrameResult& frame, LayoutSample& sample) {
   // This round's units in scan order of their first pixel, so warming runs forwards.
-  std::vector<uint32_t> units(plan_.order.begin() + from, plan_.order.begin() + to);
-  std::sort(units.begin(), units.end(),
-            [&](uint32_t a, uint32_t b) { return plan_.units[a][0] < plan_.units[b][0]; });
+  const std::vector<uint32_t> units = round_units(from, to);
   const bool warm = params_.warmup == SampleWarmup::kFunctional && params_.warmup_pixels > 0;
   FrameResult scratch;  // the warming pixels' rays: not measured
   if (warm) scratch = tracer.begin_frame(camera, width_, height_);
@@ -110,22 +146,34 @@ std::pair<double, std::string> SampledFrame::widest_ci(const LayoutSample& sampl
   return widest;
 }
 
-FrameResult SampledFrame::render(WhittedTracer& tracer, const PinholeCamera& camera,
-                                 const TierRun& tier, const std::string& layout,
+FrameResult SampledFrame::render(const Scene& scene, const TracerParams& tracer_params,
+                                 const PinholeCamera& camera, TierRun& tier,
+                                 const MemoryImage& image, const std::string& layout,
                                  double& seconds) {
   const auto t0 = std::chrono::steady_clock::now();
-  layouts_.push_back(LayoutSample{layout, {}, 0, 0.0});
+  layouts_.push_back(LayoutSample{layout, {}, 0, 0, 0.0});
   LayoutSample& sample = layouts_.back();
+  WhittedTracer tracer(scene, tracer_params, tier.backend());
   FrameResult frame = tracer.begin_frame(camera, width_, height_);
+  // One round: units [from, to) of the drawing order.
+  auto trace_round = [&](size_t from, size_t to) {
+    if (order_ == RayOrder::kWavefront)
+      trace_generations(scene, tracer_params, camera, tier, image, from, to, frame, sample);
+    else
+      trace_units(tracer, camera, tier, from, to, frame, sample);
+  };
   if (layouts_.size() == 1) {
     // The first layout draws the units: the rate's share, or rounds until the target CI.
     const size_t cap = std::max<size_t>(1, std::llround(params_.rate * double(plan_.size())));
     size_t n = cap;
     if (params_.target_ci > 0.0)
       n = std::min(cap, std::max<size_t>(params_.min_units, 2 * plan_.stratum_units.size()));
-    trace_units(tracer, camera, tier, 0, n, frame, sample);
+    trace_round(0, n);
     rounds_.push_back(n);
-    if (!params_.target_key.empty() && !sample.values.count(params_.target_key))
+    // In wavefront order rays.* are counted exactly: a target on them is met at once.
+    const bool exact_key =
+        order_ == RayOrder::kWavefront && params_.target_key.rfind("rays.", 0) == 0;
+    if (!params_.target_key.empty() && !exact_key && !sample.values.count(params_.target_key))
       throw InputError(params_.origin + ": sample.target_key: '" + params_.target_key +
                        "' is not measured by this tier");
     while (params_.target_ci > 0.0 && n < cap) {
@@ -136,14 +184,14 @@ FrameResult SampledFrame::render(WhittedTracer& tracer, const PinholeCamera& cam
                                                    (w / params_.target_ci) * 1.1
                                              : 2.0 * double(n);
       const size_t next = std::min(cap, std::max(n + 1, size_t(std::ceil(wanted))));
-      trace_units(tracer, camera, tier, n, next, frame, sample);
+      trace_round(n, next);
       rounds_.push_back(n = next);
     }
   } else {
     // Later layouts: the same units in the same rounds.
     size_t from = 0;
     for (const size_t to : rounds_) {
-      trace_units(tracer, camera, tier, from, to, frame, sample);
+      trace_round(from, to);
       from = to;
     }
   }
@@ -160,9 +208,21 @@ void SampledFrame::finish_layout(FrameResult& frame, Stats& stats) const {
     stats.set(key + ".ci95_low", e.ci_low());
     stats.set(key + ".ci95_high", e.ci_high());
   }
-  for (int k = 0; k < kRayKinds; ++k)
-    frame.rays_by_kind[k] = static_cast<uint64_t>(
-        std::llround(estimate(sample.values.at(kRayKeys[k])).value));
+  if (order_ == RayOrder::kWavefront) {
+    stats.set("sample.rays_warmed", sample.rays_warmed);
+    // Per generation the whole frame is traced: its ray counts are exact, not estimates.
+    for (int k = 0; k <= kRayKinds; ++k) {
+      const std::string key = k < kRayKinds ? kRayKeys[k] : "rays.total";
+      const double rays = double(k < kRayKinds ? frame.rays_by_kind[k] : frame.rays_total());
+      stats.set(key, rays);
+      stats.set(key + ".ci95_low", rays);
+      stats.set(key + ".ci95_high", rays);
+    }
+  } else {
+    for (int k = 0; k < kRayKinds; ++k)
+      frame.rays_by_kind[k] = static_cast<uint64_t>(
+          std::llround(estimate(sample.values.at(kRayKeys[k])).value));
+  }
   const auto [w, key] = widest_ci(sample);
   stats.set("sample.achieved_ci", w);
   stats.set("sample.achieved_ci_key", key);
@@ -193,14 +253,8 @@ void SampledFrame::write_run_stats(Stats& stats) const {
   if (!any.valid)
     std::fprintf(stderr, "rtusim: sample: %s: the 95%% confidence intervals are not valid\n",
                  any.problem.c_str());
-  // Wavefront order: the CIs are of per-unit wavefronts, biased against the full frame's.
-  const bool unit_wavefronts = order_ == RayOrder::kWavefront;
-  stats.set("sample.unit_wavefronts", unit_wavefronts);
-  if (unit_wavefronts)
-    std::fprintf(stderr,
-                 "rtusim: sample: tracer.ray_order = wavefront: each unit is traced as its own "
-                 "wavefront, so the estimates are biased against the full frame's wavefront "
-                 "order (docs/accuracy.md)\n");
+  // Wavefront order: the whole frame traced per generation, the units measured within it.
+  stats.set("sample.per_generation", order_ == RayOrder::kWavefront);
 
   // Paired differences: layout b minus layout a over the same units.
   for (size_t a = 0; a < layouts_.size(); ++a)

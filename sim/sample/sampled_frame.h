@@ -1,7 +1,9 @@
-// Sampled simulation of a frame: the drawn units are traced one after another through a tier's
-// backend (each unit's pixels in scan order, optionally after unmeasured warming pixels), every
-// extensive figure is measured per unit as the change of the counters the tier writes
-// (TierRun::write_stats before and after the unit), and the stats get
+// Sampled simulation of a frame. Recursive order: the drawn units are traced one after another
+// through a tier's backend (each unit's pixels in scan order, optionally after unmeasured
+// warming pixels). Wavefront order: the whole frame is traced generation by generation as in
+// the full run, and only the drawn units' rays of each batch go through the tier
+// (GenerationSampler). Either way every extensive figure is measured per unit as the change of
+// the counters the tier writes (TierRun::write_stats before and after), and the stats get
 // whole-frame estimates with 95% CIs. Every layout uses the same units; each pair of layouts
 // gets paired-difference CIs. With sample.target_ci the first layout draws units in rounds
 // until every figure (or sample.target_key) reaches it; the other layouts reuse those units.
@@ -23,23 +25,23 @@ namespace rtusim {
 
 class SampledFrame {
  public:
-  // `order` is the tracer's: in wavefront order each unit is traced as its own small
-  // wavefront, so the estimates are of that order, not of the full frame's (docs/accuracy.md).
+  // `order` is the tracer's.
   SampledFrame(const SampleParams& params, int width, int height, RayOrder order);
 
-  // Traces this layout's sample through `tracer` (which sends its rays to tier.backend()) and
+  // Traces this layout's sample of `scene` with `tracer` params, sending the measured rays to
+  // tier.backend() (wavefront order: every ray's hit from plain traversal of `image`), and
   // keeps every unit's figures. Throws InputError for a sample.target_key the tier lacks.
-  FrameResult render(WhittedTracer& tracer, const PinholeCamera& camera, const TierRun& tier,
-                     const std::string& layout, double& seconds);
+  FrameResult render(const Scene& scene, const TracerParams& tracer, const PinholeCamera& camera,
+                     TierRun& tier, const MemoryImage& image, const std::string& layout,
+                     double& seconds);
 
   // Replaces the layout's extensive keys in `stats` (written by the tier from its sampled
   // counters) with whole-frame estimates and adds `<key>.ci95_low`/`.ci95_high`; the frame's
   // ray counts become the (rounded) estimates. Call after the tier wrote its stats.
   void finish_layout(FrameResult& frame, Stats& stats) const;
 
-  // Run-wide keys: sample.* (units, fraction, achieved CI, validity, unit_wavefronts) and the
-  // paired differences of every pair of layouts. Says on stderr when the CIs are not valid and
-  // when the units were traced as wavefronts of their own.
+  // Run-wide keys: sample.* (units, fraction, achieved CI, validity, per_generation) and the
+  // paired differences of every pair of layouts. Says on stderr when the CIs are not valid.
   void write_run_stats(Stats& stats) const;
 
   // Whether a stats key is an extensive figure (a count that adds up over pixels).
@@ -50,12 +52,20 @@ class SampledFrame {
     std::string layout;
     std::map<std::string, std::vector<double>> values;  // key -> per-unit figure, drawing order
     uint64_t rays_simulated = 0;
+    uint64_t rays_warmed = 0;  // wavefront order: rays sent through the tier unmeasured
     double seconds = 0.0;
   };
 
   // Traces units [from, to) of the drawing order; appends their figures to `sample`.
   void trace_units(WhittedTracer& tracer, const PinholeCamera& camera, const TierRun& tier,
                    size_t from, size_t to, FrameResult& frame, LayoutSample& sample);
+  // Wavefront order: traces the whole frame into `frame` and measures units [from, to) of the
+  // drawing order per generation; appends their figures to `sample`.
+  void trace_generations(const Scene& scene, const TracerParams& tracer,
+                         const PinholeCamera& camera, TierRun& tier, const MemoryImage& image,
+                         size_t from, size_t to, FrameResult& frame, LayoutSample& sample);
+  // This round's units in scan order of their first pixel (the order their figures are kept).
+  std::vector<uint32_t> round_units(size_t from, size_t to) const;
   Estimate estimate(const std::vector<double>& values) const;
   // Largest relative half-width over the target figures, and the figure it belongs to.
   std::pair<double, std::string> widest_ci(const LayoutSample& sample) const;

@@ -24,12 +24,34 @@ assert s["sample.units"] == 256 and s["sample.units_total"] == 512 and s["sample
 assert abs(s["sample.fraction"] - 0.5) < 1e-9
 assert few["sample.ci_valid"] is False and "min_units" in few["sample.problem"]
 PY
-# Wavefront order: the units are traced as wavefronts of their own, and the run says so.
+# Wavefront order: the whole frame is traced per generation (its image and ray counts are the full
+# run's) and only the drawn units' rays are measured; nothing to warn about.
+"$rtusim" run "$src/configs/default.toml" "${common[@]}" --set tracer.ray_order=wavefront --out "$tmp/wffull" > /dev/null
 "$rtusim" run "$src/configs/default.toml" "${common[@]}" --set sample.rate=0.5 --set tracer.ray_order=wavefront \
   --out "$tmp/wf" > /dev/null 2> "$tmp/wf.err"
-grep -q "sample: tracer.ray_order = wavefront: each unit is traced as its own wavefront" "$tmp/wf.err"
-python3 -c 'import json,sys; a,b=(json.load(open(p)) for p in sys.argv[1:3]); assert a["sample.unit_wavefronts"] is False and b["sample.unit_wavefronts"] is True' \
-  "$tmp/s/stats.json" "$tmp/wf/stats.json"
+[ ! -s "$tmp/wf.err" ]
+cmp "$tmp/wffull/image.png" "$tmp/wf/image.png"
+python3 - "$tmp/s/stats.json" "$tmp/wf/stats.json" "$tmp/wffull/stats.json" <<'PY'
+import json, sys
+s, wf, full = (json.load(open(p)) for p in sys.argv[1:4])
+assert s["sample.per_generation"] is False and wf["sample.per_generation"] is True
+for k in ["rays.total", "rays.shadow", "rays.reflection"]:
+    assert wf[k] == wf[k + ".ci95_low"] == wf[k + ".ci95_high"] == full[k], k
+for k in ["dram.bytes.nodes", "layout.odfl.dram.bytes.nodes", "sample.diff.odfl-dfl.dram.bytes.nodes"]:
+    assert wf[k + ".ci95_low"] <= wf[k] <= wf[k + ".ci95_high"], k
+assert 0 < wf["sample.rays_simulated"] < full["rays.total"]
+PY
+# Every unit in one round: each batch goes through the tier whole, in the full run's order, so the
+# units' sums are the full run's figures exactly (the per-generation units cover the frame).
+"$rtusim" run "$src/configs/default.toml" "${common[@]}" --set sample.rate=0.9999 --set tracer.ray_order=wavefront \
+  --out "$tmp/wfall" > /dev/null
+python3 - "$tmp/wfall/stats.json" "$tmp/wffull/stats.json" <<'PY'
+import json, sys
+a, full = (json.load(open(p)) for p in sys.argv[1:3])
+assert a["sample.units"] == a["sample.units_total"] and a["sample.rays_warmed"] == 0
+for k in ["dram.bytes.nodes", "dram.bytes.total", "l1.misses", "layout.odfl.dram.bytes.nodes"]:
+    assert a[k] == full[k], (k, a[k], full[k])
+PY
 # Bad sample keys: exit 2, one line naming the key, no output.
 for bad in "sample.method=pixels" "sample.rate=0" "sample.warmup=detailed" "sample.target_key=tree.nodes"; do
   set +e

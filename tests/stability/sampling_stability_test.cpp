@@ -1,8 +1,9 @@
 // Stability of sampled simulation where it can fail: 95% CIs must cover the full run's value
 // in at least 93 of 100 seeded runs (a scene of glass and mirrors, whose per-pixel cost is
 // heavy-tailed, and Sponza), the paired ODFL-DFL CI must cover the true difference, too few
-// units must be said, and the bias of unwarmed units must show. The counts printed are the
-// measurements behind docs/accuracy.md.
+// units must be said, and the bias of unwarmed units must show; in wavefront order, where the
+// units are measured per generation of the whole frame, the CIs must cover the full run too.
+// The counts printed are the measurements behind docs/accuracy.md.
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -26,10 +27,11 @@ std::string config(const std::string& name) {
 double get(const Stats& s, const std::string& key) { return s.at(key).get<double>(); }
 
 // A small frame of `name` with both layouts, prepared once; sample.* set per run.
-Prepared prepare(const std::string& name, int size) {
+Prepared prepare(const std::string& name, int size, const std::string& order = "recursive") {
   return prepare_run(config(name),
                      {"image.width=" + std::to_string(size), "image.height=" + std::to_string(size),
-                      "layout.kind=[\"dfl\", \"odfl\"]", "image.png=false"});
+                      "layout.kind=[\"dfl\", \"odfl\"]", "image.png=false",
+                      "tracer.ray_order=\"" + order + "\""});
 }
 
 struct Coverage {
@@ -85,8 +87,8 @@ bool have_scenes() {
 
 // 10% of a 192x192 frame of `name` in tiles, warmed: the CIs of node bytes, of rays and of the
 // paired ODFL-DFL difference hold the full run's figures in at least 93 of 100 runs.
-void expect_coverage(const std::string& name) {
-  Prepared p = prepare(name, 192);
+void expect_coverage(const std::string& name, const std::string& order = "recursive") {
+  Prepared p = prepare(name, 192, order);
   const Stats full = simulate(p).stats;
   const Coverage c = coverage(p, tiles(0.1, SampleWarmup::kFunctional), full);
   EXPECT_GE(c.figure, 93);
@@ -100,6 +102,17 @@ TEST(SamplingStability, CiCoversFullRunOnGlassAndMirrors) { expect_coverage("def
 TEST(SamplingStability, CiCoversFullRunOnSponza) {
   if (!have_scenes()) GTEST_SKIP() << "no shared scenes";
   expect_coverage("sponza_dabrovic");
+}
+
+// Wavefront order: the units measured within each generation of the whole frame; the rays are
+// then counted exactly.
+TEST(SamplingStability, WavefrontCiCoversFullRunOnGlassAndMirrors) {
+  expect_coverage("default", "wavefront");
+}
+
+TEST(SamplingStability, WavefrontCiCoversFullRunOnSponza) {
+  if (!have_scenes()) GTEST_SKIP() << "no shared scenes";
+  expect_coverage("sponza_dabrovic", "wavefront");
 }
 
 // Unwarmed units start with another unit's lines in the L1: more misses than in the full run,
