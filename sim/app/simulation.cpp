@@ -13,6 +13,7 @@
 #include "tier/progress_backend.h"
 #include "tier/tier.h"
 #include "tracer/parallel_render.h"
+#include "util/child_processes.h"
 
 namespace rtusim {
 
@@ -88,6 +89,41 @@ struct LayoutResult {
   double seconds = 0.0;
 };
 
+// A layout's result as bytes (MessagePack, which keeps every number's type and bits), for the
+// child process that ran it to send to the parent.
+std::string encode(const LayoutResult& r) {
+  using nlohmann::json;
+  const auto* radiance = reinterpret_cast<const uint8_t*>(r.frame.radiance.data());
+  json j;
+  j["kind"] = r.run.kind;
+  j["stats"] = r.run.stats.to_json();
+  j["pixel_dram_bytes"] = r.run.pixel_dram_bytes;
+  j["width"] = r.frame.width;
+  j["height"] = r.frame.height;
+  j["radiance"] = json::binary(std::vector<uint8_t>(
+      radiance, radiance + r.frame.radiance.size() * sizeof(glm::vec3)));
+  j["rays_by_kind"] = r.frame.rays_by_kind;
+  j["seconds"] = r.seconds;
+  const std::vector<uint8_t> bytes = json::to_msgpack(j);
+  return std::string(bytes.begin(), bytes.end());
+}
+
+LayoutResult decode(const std::string& bytes) {
+  const nlohmann::json j = nlohmann::json::from_msgpack(bytes);
+  LayoutResult r;
+  r.run.kind = j.at("kind").get<std::string>();
+  for (const auto& [k, v] : j.at("stats").items()) r.run.stats.set(k, v);
+  r.run.pixel_dram_bytes = j.at("pixel_dram_bytes").get<std::vector<uint64_t>>();
+  r.frame.width = j.at("width").get<int>();
+  r.frame.height = j.at("height").get<int>();
+  const std::vector<uint8_t>& radiance = j.at("radiance").get_binary();
+  r.frame.radiance.resize(radiance.size() / sizeof(glm::vec3));
+  std::memcpy(r.frame.radiance.data(), radiance.data(), radiance.size());
+  r.frame.rays_by_kind = j.at("rays_by_kind").get<std::array<uint64_t, kRayKinds>>();
+  r.seconds = j.at("seconds").get<double>();
+  return r;
+}
+
 }  // namespace
 
 SimulationResult simulate(const Prepared& p) {
@@ -98,9 +134,10 @@ SimulationResult simulate(const Prepared& p) {
   // Sampled simulation (sample.*): the same units for every layout, one layout after another.
   std::optional<SampledFrame> sampler;
   if (p.config.sample.active()) sampler.emplace(p.config.sample, w, h, p.config.tracer.order);
-  // Several layouts at once where the tier allows it (each without a progress bar then).
-  const bool concurrent = !sampler && p.images.size() > 1 && parallel_threads() > 1 &&
-                          tier_runs_concurrently(p.config.sim.tier);
+  // Several layouts at once, up to --threads of them, on threads or in child processes as the
+  // tier allows (each without a progress bar then).
+  const bool concurrent = !sampler && p.images.size() > 1 && parallel_threads() > 1;
+  const LayoutConcurrency how = tier_layout_concurrency(p.config.sim.tier);
   std::vector<LayoutResult> runs(p.images.size());
   auto run_layout = [&](size_t i) {
     // The same rays for every layout: hits do not depend on the layout, so neither do rays.
@@ -128,8 +165,23 @@ SimulationResult simulate(const Prepared& p) {
     tier->finish();
     if (sampler) sampler->finish_layout(runs[i].frame, run.stats);
   };
-  if (concurrent) tbb::parallel_for(size_t{0}, p.images.size(), run_layout);
-  else for (size_t i = 0; i < p.images.size(); ++i) run_layout(i);
+  if (concurrent && how == LayoutConcurrency::kThreads) {
+    tbb::parallel_for(size_t{0}, p.images.size(), run_layout);
+  } else if (concurrent) {
+    // Each child elaborates its own top in a fresh SystemC context (CycleBackend). The parent
+    // holds only the default context SystemC's library makes when it is loaded, with no module
+    // in it, and no thread the child would miss (SystemC runs its processes as coroutines).
+    std::vector<std::string> names;
+    for (const MemoryImage& image : p.images) names.push_back("layout " + image.layout);
+    const std::vector<std::string> bytes =
+        run_in_child_processes(p.images.size(), parallel_threads(), names, [&](size_t i) {
+          run_layout(i);
+          return encode(runs[i]);
+        });
+    for (size_t i = 0; i < runs.size(); ++i) runs[i] = decode(bytes[i]);
+  } else {
+    for (size_t i = 0; i < p.images.size(); ++i) run_layout(i);
+  }
 
   for (LayoutResult& lr : runs) {
     LayoutRun& run = lr.run;

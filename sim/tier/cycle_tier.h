@@ -9,8 +9,8 @@ namespace rtusim {
 class CycleTier : public TierRun {
  public:
   static constexpr const char* kName = "cycle";
-  // SystemC's kernel is one global simulation: one layout at a time.
-  static constexpr bool kConcurrentLayouts = false;
+  // SystemC's kernel is one global simulation: one layout per process.
+  static constexpr LayoutConcurrency kLayoutConcurrency = LayoutConcurrency::kProcesses;
   CycleTier(const MemoryImage& image, const TierConfig& config) : backend_(image, config.cycle) {}
 
   TraceBackend& backend() override { return backend_; }

@@ -11,7 +11,7 @@ class FunctionalTier final : public TierRun {
  public:
   static constexpr const char* kName = "functional";
   // Runs share nothing but the (read-only) scene and image: layouts may run on other threads.
-  static constexpr bool kConcurrentLayouts = true;
+  static constexpr LayoutConcurrency kLayoutConcurrency = LayoutConcurrency::kThreads;
   FunctionalTier(const MemoryImage& image, const TierConfig& config)
       : backend_(image, config.caches, config.pixels, config.functional.rays_in_flight) {}
 

@@ -20,8 +20,8 @@ std::unique_ptr<TierRun> make_tier(const std::string& name, const MemoryImage& i
 
 std::vector<std::string> tier_names() { return Tiers::names(); }
 
-bool tier_runs_concurrently(const std::string& name) {
-  return Tiers::dispatch(name, []<class T>() { return T::kConcurrentLayouts; });
+LayoutConcurrency tier_layout_concurrency(const std::string& name) {
+  return Tiers::dispatch(name, []<class T>() { return T::kLayoutConcurrency; });
 }
 
 std::string read_tier_name(ConfigReader& r) { return kTier.read(r); }

@@ -44,8 +44,11 @@ class TierRun {
 std::unique_ptr<TierRun> make_tier(const std::string& name, const MemoryImage& image,
                                    const TierConfig& config);
 std::vector<std::string> tier_names();
-// Whether runs of tier `name` for several layouts may proceed at once on different threads.
-bool tier_runs_concurrently(const std::string& name);
+// How runs of one tier for several layouts may proceed at once: on threads of one process
+// (they share nothing writable), or each in a child process of its own (the tier keeps global
+// state, like SystemC's kernel).
+enum class LayoutConcurrency { kThreads, kProcesses };
+LayoutConcurrency tier_layout_concurrency(const std::string& name);
 // Reads sim.tier (declared in tier.cpp).
 std::string read_tier_name(ConfigReader& r);
 

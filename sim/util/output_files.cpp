@@ -114,6 +114,10 @@ void install_output_cleanup() {
   for (int s : kCleanupSignals) ::sigaction(s, &sa, nullptr);
 }
 
+void forget_inherited_outputs() {
+  for (CleanupSlot& s : g_slots) s.kind = 0;
+}
+
 // ---- OutputFiles ----
 
 OutputFiles::OutputFiles(fs::path dir) : dir_(std::move(dir)) {

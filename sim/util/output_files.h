@@ -14,6 +14,9 @@ namespace rtusim {
 // temporary file, then die of the signal. Commits run with these signals blocked, so a signal
 // lands either before (nothing left) or after (everything in place).
 void install_output_cleanup();
+// In a forked child: forgets the staged outputs inherited from the parent, which are the
+// parent's to commit or remove; the child's signal cleanup then removes only its own.
+void forget_inherited_outputs();
 
 class OutputFiles {
  public:
