@@ -15,31 +15,20 @@ Usage: scripts/interleave_bias.py CONFIG... [--size 512] [--layout dfl] [--repea
 """
 import argparse
 import csv
-import json
 import pathlib
-import statistics
-import subprocess
 import sys
-import tempfile
 
-ROOT = pathlib.Path(__file__).resolve().parent.parent
+from speed_accuracy import ROOT, run
 
 
 def stats(rtusim, config, sets, repeats):
     """The last run's stats, with trace.seconds the median of `repeats` runs; None on failure."""
-    seconds, last = [], None
-    with tempfile.TemporaryDirectory() as tmp:
-        for _ in range(repeats):
-            cmd = [str(rtusim), "run", str(config), "--out", tmp]
-            for s in sets:
-                cmd += ["--set", s]
-            r = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-            if r.returncode != 0:
-                print(f"  failed: {' '.join(sets)}: {r.stderr.strip().splitlines()[0]}", flush=True)
-                return None
-            last = json.loads((pathlib.Path(tmp) / "stats.json").read_text())
-            seconds.append(last["trace.seconds"])
-    last["trace.seconds"] = statistics.median(seconds)
+    seconds, last = run(rtusim, config, sets, repeats)
+    if seconds is None:
+        first = (last.splitlines() or [""])[0]
+        print(f"  failed: {' '.join(sets)}: {first}", flush=True)
+        return None
+    last["trace.seconds"] = seconds
     return last
 
 

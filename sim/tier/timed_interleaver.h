@@ -32,6 +32,7 @@
 #include "model/cycle_params.h"
 #include "model/event_wheel.h"
 #include "tracer/ray_batch.h"
+#include "traversal/fetch_recorder.h"
 #include "traversal/traversal.h"
 
 namespace rtusim {
@@ -55,15 +56,8 @@ class TimedInterleaver {
 
  private:
   enum class Phase : uint8_t { kStep, kLeafBody, kTriangles, kIsect };
-  struct Fetch {
-    Stream stream;
-    uint64_t addr;
-    uint32_t bytes;
-  };
-  struct Recorder {
-    std::vector<Fetch>* out;
-    void fetch(Stream s, uint64_t addr, uint32_t bytes) { out->push_back({s, addr, bytes}); }
-  };
+  using Fetch = RecordedFetch;
+  using Recorder = FetchRecorder;
   struct Slot {
     TraversalState st;
     uint32_t ray = 0;
