@@ -113,7 +113,9 @@ def plot(rows, path, title):
                "sampled functional": "tab:cyan",
                "sampled interleaved": "tab:olive", "sampled cycle": "tab:red",
                "naive": "tab:purple"}
-    for ax, key, name in ((axes[0], "nodes", "node DRAM bytes"), (axes[1], "cycles", "sim.cycles")):
+    panels = ((axes[0], "nodes", "node DRAM bytes"),
+              (axes[1], "cycles", "sim.cycles (timed mode: estimate.cycles)"))
+    for ax, key, name in panels:
         for r in rows:
             err = r[f"{key}_err"]
             if err is None or math.isnan(err):
