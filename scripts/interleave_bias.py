@@ -1,34 +1,35 @@
 #!/usr/bin/env python3
-"""Node DRAM bytes of the functional tier and of the interleaved functional mode against the
-cycle tier, at 1, 8, 32 and 128 rays in flight (wavefront order, one layout).
+"""Node DRAM bytes and cycles of the functional tier, the interleaved functional mode and the
+timed interleaved mode against the cycle tier, at 1, 8, 32 and 128 rays in flight (wavefront
+order, one layout).
 
 Writes interleave_bias.csv and prints a Markdown table: for each scene and rays-in-flight count,
-the cycle tier's node DRAM bytes, and the relative error of the functional tier (which traces
-one ray at a time whatever the count) and of functional.rays_in_flight = the same count.
+the cycle tier's node DRAM bytes and sim.cycles, the relative error of the functional tier (which
+traces one ray at a time whatever the count), of functional.rays_in_flight = the same count
+(round-robin) and of the same with functional.timed = true (node bytes, and its estimate.cycles
+against sim.cycles), and the seconds of each (trace.seconds, the median of --repeats runs;
+the cycle tier runs on one thread, the functional tier on --threads, the interleaved modes on
+one).
 
-Usage: scripts/interleave_bias.py CONFIG... [--size 512] [--layout dfl] [--out docs]
+Usage: scripts/interleave_bias.py CONFIG... [--size 512] [--layout dfl] [--repeats 1] [--out docs]
 """
 import argparse
 import csv
-import json
 import pathlib
-import subprocess
 import sys
-import tempfile
 
-ROOT = pathlib.Path(__file__).resolve().parent.parent
+from speed_accuracy import ROOT, run
 
 
-def stats(rtusim, config, sets):
-    with tempfile.TemporaryDirectory() as tmp:
-        cmd = [str(rtusim), "run", str(config), "--out", tmp]
-        for s in sets:
-            cmd += ["--set", s]
-        r = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-        if r.returncode != 0:
-            print(f"  failed: {' '.join(sets)}: {r.stderr.strip().splitlines()[0]}", flush=True)
-            return None
-        return json.loads((pathlib.Path(tmp) / "stats.json").read_text())
+def stats(rtusim, config, sets, repeats):
+    """The last run's stats, with trace.seconds the median of `repeats` runs; None on failure."""
+    seconds, last = run(rtusim, config, sets, repeats)
+    if seconds is None:
+        first = (last.splitlines() or [""])[0]
+        print(f"  failed: {' '.join(sets)}: {first}", flush=True)
+        return None
+    last["trace.seconds"] = seconds
+    return last
 
 
 def main():
@@ -37,6 +38,7 @@ def main():
     ap.add_argument("--size", type=int, default=512)
     ap.add_argument("--layout", default="dfl")
     ap.add_argument("--in-flight", type=int, nargs="+", default=[1, 8, 32, 128])
+    ap.add_argument("--repeats", type=int, default=1)
     ap.add_argument("--out", type=pathlib.Path, default=ROOT / "docs")
     ap.add_argument("--csv", default="interleave_bias.csv")
     ap.add_argument("--rtusim", type=pathlib.Path, default=ROOT / "build" / "rtusim")
@@ -45,41 +47,52 @@ def main():
               f"layout.kind={args.layout}", "image.png=false", "image.heatmaps=false"]
     rows = []
     for config in args.configs:
-        functional = stats(args.rtusim, config, common)
+        functional = stats(args.rtusim, config, common, args.repeats)
         for n in args.in_flight:
-            cycle = stats(args.rtusim, config, common + ["sim.tier=cycle", f"sim.rays_in_flight={n}"])
-            inter = stats(args.rtusim, config, common + [f"functional.rays_in_flight={n}"])
-            if cycle is None:
-                rows.append({"scene": config.stem, "rays_in_flight": n, "cycle_node_bytes": "failed",
-                             "functional_node_bytes": functional["dram.bytes.nodes"],
-                             "functional_error": "", "interleaved_node_bytes": inter["dram.bytes.nodes"],
-                             "interleaved_error": "", "cycle_seconds": "",
-                             "interleaved_seconds": inter["trace.seconds"],
-                             "functional_seconds": functional["trace.seconds"]})
-                continue
-            ref = cycle["dram.bytes.nodes"]
-            rows.append({"scene": config.stem, "rays_in_flight": n, "cycle_node_bytes": ref,
-                         "functional_node_bytes": functional["dram.bytes.nodes"],
-                         "functional_error": functional["dram.bytes.nodes"] / ref - 1,
-                         "interleaved_node_bytes": inter["dram.bytes.nodes"],
-                         "interleaved_error": inter["dram.bytes.nodes"] / ref - 1,
-                         "cycle_seconds": cycle["trace.seconds"],
-                         "interleaved_seconds": inter["trace.seconds"],
-                         "functional_seconds": functional["trace.seconds"]})
+            cycle = stats(args.rtusim, config, common + ["sim.tier=cycle", f"sim.rays_in_flight={n}"],
+                          args.repeats)
+            inter = stats(args.rtusim, config, common + [f"functional.rays_in_flight={n}"],
+                          args.repeats)
+            timed = stats(args.rtusim, config, common + [f"functional.rays_in_flight={n}",
+                                                          "functional.timed=true"], args.repeats)
+            row = {"scene": config.stem, "rays_in_flight": n,
+                   "cycle_node_bytes": cycle["dram.bytes.nodes"] if cycle else "failed",
+                   "cycle_cycles": cycle["sim.cycles"] if cycle else "",
+                   "functional_node_bytes": functional["dram.bytes.nodes"],
+                   "interleaved_node_bytes": inter["dram.bytes.nodes"],
+                   "timed_node_bytes": timed["dram.bytes.nodes"],
+                   "timed_estimate_cycles": timed["estimate.cycles"],
+                   "functional_error": "", "interleaved_error": "", "timed_error": "",
+                   "timed_cycles_error": "",
+                   "cycle_seconds": cycle["trace.seconds"] if cycle else "",
+                   "functional_seconds": functional["trace.seconds"],
+                   "interleaved_seconds": inter["trace.seconds"],
+                   "timed_seconds": timed["trace.seconds"]}
+            if cycle:
+                ref = cycle["dram.bytes.nodes"]
+                row["functional_error"] = functional["dram.bytes.nodes"] / ref - 1
+                row["interleaved_error"] = inter["dram.bytes.nodes"] / ref - 1
+                row["timed_error"] = timed["dram.bytes.nodes"] / ref - 1
+                row["timed_cycles_error"] = timed["estimate.cycles"] / cycle["sim.cycles"] - 1
+            rows.append(row)
             print(rows[-1], flush=True)
     args.out.mkdir(parents=True, exist_ok=True)
     with open(args.out / args.csv, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
         w.writeheader()
         w.writerows(rows)
-    print("| scene | rays in flight | cycle node MB | functional error | interleaved error |")
-    print("|---|---:|---:|---:|---:|")
+    print("| scene | rays in flight | cycle node MB | functional | round-robin | timed | "
+          "timed cycles | cycle s / round-robin s / timed s |")
+    print("|---|---:|---:|---:|---:|---:|---:|---|")
     for r in rows:
         if r["cycle_node_bytes"] == "failed":
-            print(f"| {r['scene']} | {r['rays_in_flight']} | cycle tier failed | | |")
+            print(f"| {r['scene']} | {r['rays_in_flight']} | cycle tier failed | | | | | |")
             continue
         print(f"| {r['scene']} | {r['rays_in_flight']} | {r['cycle_node_bytes'] / 1e6:.2f} | "
-              f"{100 * r['functional_error']:+.2f}% | {100 * r['interleaved_error']:+.2f}% |")
+              f"{100 * r['functional_error']:+.2f}% | {100 * r['interleaved_error']:+.2f}% | "
+              f"{100 * r['timed_error']:+.2f}% | {100 * r['timed_cycles_error']:+.2f}% | "
+              f"{r['cycle_seconds']:.1f} / {r['interleaved_seconds']:.1f} / "
+              f"{r['timed_seconds']:.1f} |")
 
 
 if __name__ == "__main__":

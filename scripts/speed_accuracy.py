@@ -4,13 +4,15 @@
 Runs, over the same frame (wavefront order, so the cycle tier's rays in flight matter, one
 layout): the full cycle tier (the reference), the rtl tier (when built for the config's L1),
 the functional tier, the interleaved functional mode (functional.rays_in_flight = the cycle
-tier's sim.rays_in_flight), sampled runs of each at several rates and methods, and a naive
+tier's sim.rays_in_flight), the same with functional.timed = true (its estimate.cycles is its
+cycles point), sampled runs of each at several rates and methods, and a naive
 method expected to fail (the cycle tier at half resolution, its counts times four). Each point
 is timed as the median of --repeats runs (trace.seconds: the simulation, without scene load and
-tree build). Writes speed_accuracy_<name>.csv and .png: x = speed-up against the reference,
+tree build; --cycle-repeats for the sampled cycle-tier and naive points, the rtl tier once). Writes speed_accuracy_<name>.csv and .png: x = speed-up against the reference,
 y = relative error of node DRAM bytes and of cycles, with 95% CI bars, the Pareto front marked.
 
-Usage: scripts/speed_accuracy.py CONFIG [--name NAME] [--size N] [--repeats 3] [--out docs]
+Usage: scripts/speed_accuracy.py CONFIG [--name NAME] [--size N] [--repeats 3] [--cycle-repeats N]
+                                 [--no-rtl] [--out docs]
 """
 import argparse
 import csv
@@ -47,7 +49,9 @@ def ladder(size, rif, rtl):
     if rtl:
         pts.append(("rtl", "rtl", ["sim.tier=rtl"], 1.0))
     pts += [("functional", "functional", [], 1.0),
-            (f"interleaved {rif}", "interleaved", [f"functional.rays_in_flight={rif}"], 1.0)]
+            (f"interleaved {rif}", "interleaved", [f"functional.rays_in_flight={rif}"], 1.0),
+            (f"timed {rif}", "timed interleaved",
+             [f"functional.rays_in_flight={rif}", "functional.timed=true"], 1.0)]
     for rate in (0.02, 0.05, 0.1, 0.25):
         pts.append((f"functional tiles {rate}", "sampled functional",
                     ["sample.method=tiles", f"sample.rate={rate}"], 1.0))
@@ -105,10 +109,13 @@ def plot(rows, path, title):
     import matplotlib.pyplot as plt
     fig, axes = plt.subplots(1, 2, figsize=(14, 6))
     colours = {"cycle": "black", "rtl": "grey", "functional": "tab:blue",
-               "interleaved": "tab:green", "sampled functional": "tab:cyan",
+               "interleaved": "tab:green", "timed interleaved": "tab:orange",
+               "sampled functional": "tab:cyan",
                "sampled interleaved": "tab:olive", "sampled cycle": "tab:red",
                "naive": "tab:purple"}
-    for ax, key, name in ((axes[0], "nodes", "node DRAM bytes"), (axes[1], "cycles", "sim.cycles")):
+    panels = ((axes[0], "nodes", "node DRAM bytes"),
+              (axes[1], "cycles", "sim.cycles (timed mode: estimate.cycles)"))
+    for ax, key, name in panels:
         for r in rows:
             err = r[f"{key}_err"]
             if err is None or math.isnan(err):
@@ -144,6 +151,8 @@ def main():
     ap.add_argument("--name")
     ap.add_argument("--size", type=int, default=512)
     ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--cycle-repeats", type=int, help="repeats of the sampled cycle-tier and "
+                    "naive points (default: --repeats)")
     ap.add_argument("--rays-in-flight", type=int, default=32)
     ap.add_argument("--no-rtl", action="store_true")
     ap.add_argument("--replot", action="store_true", help="redraw from the CSV of an earlier run")
@@ -155,8 +164,11 @@ def main():
               "layout.kind=dfl", f"sim.rays_in_flight={args.rays_in_flight}", "image.png=false",
               "image.heatmaps=false"]
     csv_path = args.out / f"speed_accuracy_{name}.csv"
+    cycle_repeats = args.cycle_repeats or args.repeats
     title = (f"{name} {args.size}x{args.size}, Whitted depth 4, wavefront, dfl, "
-             f"{args.rays_in_flight} rays in flight; medians of {args.repeats} runs")
+             f"{args.rays_in_flight} rays in flight; medians of {args.repeats} runs" +
+             (f" ({cycle_repeats} for sampled cycle and naive)" if cycle_repeats != args.repeats
+              else ""))
     if args.replot:
         rows = read_csv(csv_path)
     else:
@@ -177,6 +189,8 @@ def measure(args, common):
     for label, family, sets, scale in ladder(args.size, args.rays_in_flight, not args.no_rtl):
         sets = common + sets
         repeats = 1 if family in ("rtl",) else args.repeats
+        if family in ("sampled cycle", "naive"):
+            repeats = args.cycle_repeats or args.repeats
         print(f"+ {label}", flush=True)
         seconds, stats = run(args.rtusim, args.config, sets, repeats)
         if seconds is None:
@@ -190,6 +204,8 @@ def measure(args, common):
                "units": stats.get("sample.units", ""), "ci_valid": stats.get("sample.ci_valid", "")}
         for key, stat in (("nodes", "dram.bytes.nodes"), ("cycles", "sim.cycles")):
             truth = ref[1][stat]
+            if stat == "sim.cycles" and "estimate.cycles" in stats:
+                stat = "estimate.cycles"  # the timed mode's estimate of sim.cycles
             if stat not in stats:
                 row.update({key: None, f"{key}_err": None, f"{key}_err_lo": None,
                             f"{key}_err_hi": None})

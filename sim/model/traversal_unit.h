@@ -36,6 +36,7 @@
 #include "model/event_wheel.h"
 #include "model/host_interface.h"
 #include "model/unit_params.h"
+#include "traversal/fetch_recorder.h"
 #include "traversal/traversal.h"
 
 namespace rtusim {
@@ -72,15 +73,8 @@ class TraversalUnit : public sc_core::sc_module {
   enum class Phase : uint8_t {
     kStep, kBook, kNodeWait, kLeafBody, kListWait, kTriangles, kTriWait, kIsect
   };
-  struct Fetch {
-    Stream stream;
-    uint64_t addr;
-    uint32_t bytes;
-  };
-  struct Recorder {
-    std::vector<Fetch>* out;
-    void fetch(Stream s, uint64_t addr, uint32_t bytes) { out->push_back({s, addr, bytes}); }
-  };
+  using Fetch = RecordedFetch;
+  using Recorder = FetchRecorder;
   struct Slot {
     bool active = false;
     uint32_t ray = 0;

@@ -10,11 +10,17 @@
 namespace rtusim {
 
 FunctionalBackend::FunctionalBackend(const MemoryImage& image, const FetchCacheParams& caches,
-                                     uint32_t pixels, int rays_in_flight)
+                                     uint32_t pixels, int rays_in_flight,
+                                     const CycleParams* timing)
     : image_(image), caches_(caches), pixel_dram_bytes_(pixels, 0),
-      rays_in_flight_(rays_in_flight) {}
+      rays_in_flight_(rays_in_flight),
+      timed_(timing ? std::make_unique<TimedInterleaver>(image, *timing, rays_in_flight)
+                    : nullptr) {}
 
 void FunctionalBackend::trace(std::span<const RayRecord> rays, std::span<Hit> hits) {
+  if (timed_)
+    return timed_->trace(rays, hits, caches_,
+                         [this](uint32_t pixel, uint64_t bytes) { charge(pixel, bytes); });
   if (rays_in_flight_ > 1) return trace_interleaved(rays, hits);
   caches_.with_inlined_node_l1([&](auto& sink) {
     with_layout_decoder(image_, [&]<class Decoder>() {
@@ -32,6 +38,7 @@ void FunctionalBackend::trace_interleaved(std::span<const RayRecord> rays, std::
     TraversalState state;
     size_t ray = 0;
     bool busy = false;
+    uint64_t dram_bytes = 0;  // of the current ray, charged when it ends
   };
   std::vector<Slot> slots(std::min<size_t>(rays_in_flight_, rays.size()));
   size_t next = 0;
@@ -39,6 +46,7 @@ void FunctionalBackend::trace_interleaved(std::span<const RayRecord> rays, std::
     slot.busy = next < rays.size();
     if (!slot.busy) return;
     slot.ray = next++;
+    slot.dram_bytes = 0;
     traversal_begin(slot.state, image_, rays[slot.ray].ray, rays[slot.ray].any_hit());
   };
   for (Slot& slot : slots) start(slot);
@@ -48,12 +56,12 @@ void FunctionalBackend::trace_interleaved(std::span<const RayRecord> rays, std::
       while (busy > 0) {
         for (Slot& slot : slots) {
           if (!slot.busy) continue;
-          const uint32_t pixel = rays[slot.ray].pixel;
           const uint64_t before = caches_.dram_bytes_total();
           const StepKind step = traversal_step<Decoder>(slot.state, image_, sink);
-          charge(pixel, caches_.dram_bytes_total() - before);
+          slot.dram_bytes += caches_.dram_bytes_total() - before;
           if (step != StepKind::kDone && !slot.state.done) continue;
           hits[slot.ray] = slot.state.hit;
+          charge(rays[slot.ray].pixel, slot.dram_bytes);
           start(slot);
           if (!slot.busy) --busy;
         }

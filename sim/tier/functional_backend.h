@@ -4,26 +4,32 @@
 // mode, functional.rays_in_flight) up to that many rays of a batch are in traversal at once and
 // take one traversal step each in turn (round-robin over the slots); a finished ray's slot takes
 // the batch's next ray. That is the cycle tier's ray interleaving without time: it predicts the
-// node stream of a unit that holds that many rays, at about the functional tier's cost.
+// node stream of a unit that holds that many rays, at about the functional tier's cost. With
+// functional.timed the turns follow a cheap model of the unit's timing instead
+// (TimedInterleaver), which also estimates the cycle tier's cycles.
 #pragma once
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "cache/stream_caches.h"
 #include "layout/memory_image.h"
+#include "tier/timed_interleaver.h"
 #include "tracer/ray_batch.h"
 
 namespace rtusim {
 
 class FunctionalBackend final : public TraceBackend {
  public:
+  // `timing`: the timed mode's params (the cycle tier's, derived); nullptr: untimed.
   FunctionalBackend(const MemoryImage& image, const FetchCacheParams& caches, uint32_t pixels,
-                    int rays_in_flight = 1);
+                    int rays_in_flight = 1, const CycleParams* timing = nullptr);
   void trace(std::span<const RayRecord> rays, std::span<Hit> hits) override;
-  // Replay (parallel tracing) reproduces one ray at a time only: the interleaved mode stays serial.
+  // Replay (parallel tracing) reproduces one ray at a time only: the interleaved and timed
+  // modes stay serial.
   const MemoryImage* replay_image() const override {
-    return rays_in_flight_ > 1 ? nullptr : &image_;
+    return rays_in_flight_ > 1 || timed_ ? nullptr : &image_;
   }
   void replay(const FetchLog& log) override;
 
@@ -31,6 +37,8 @@ class FunctionalBackend final : public TraceBackend {
   // DRAM bytes (all streams) caused by each pixel's whole ray tree.
   const std::vector<uint64_t>& pixel_dram_bytes() const { return pixel_dram_bytes_; }
   int rays_in_flight() const { return rays_in_flight_; }
+  // The timed mode's model; nullptr when untimed.
+  const TimedInterleaver* timed() const { return timed_.get(); }
 
  private:
   // The interleaved mode's trace (rays_in_flight_ > 1).
@@ -47,6 +55,7 @@ class FunctionalBackend final : public TraceBackend {
   FetchCache caches_;
   std::vector<uint64_t> pixel_dram_bytes_;
   int rays_in_flight_;
+  std::unique_ptr<TimedInterleaver> timed_;
 };
 
 }  // namespace rtusim

@@ -11,19 +11,28 @@ const IntParam kRaysInFlight("functional.rays_in_flight", kFunctional.rays_in_fl
                              "rays",
                              "rays in traversal at once, one step each in turn (1: each ray to "
                              "the end in turn; more: the cycle tier's interleaving, no time)");
+const BoolParam kTimed("functional.timed", kFunctional.timed,
+                       "rays in flight take turns by an approximate model of the cycle tier's "
+                       "timing (its sim.*, isect.*, l1.*, dcache.*, dram.* keys) and "
+                       "estimate.cycles is reported; false: strict round-robin, no time");
 }  // namespace
 
 FunctionalParams read_functional_params(ConfigReader& r) {
   FunctionalParams p;
   p.rays_in_flight = static_cast<int>(kRaysInFlight.read(r));
+  p.timed = kTimed.read(r);
   return p;
 }
 
 void FunctionalTier::write_stats(Stats& stats) const {
   const FetchCache& c = backend_.caches();
   write_stats(c.counters(), c.data_cache() != nullptr, stats);
-  if (backend_.rays_in_flight() > 1)
+  if (backend_.rays_in_flight() > 1 || backend_.timed())
     stats.set("functional.rays_in_flight", backend_.rays_in_flight());
+  if (backend_.timed()) {
+    stats.set("functional.timed", true);
+    backend_.timed()->write_stats(stats);
+  }
 }
 
 void FunctionalTier::write_stats(const FetchCache::Counters& counters, bool data_cache_on,

@@ -13,11 +13,13 @@ class FunctionalTier final : public TierRun {
   // Runs share nothing but the (read-only) scene and image: layouts may run on other threads.
   static constexpr LayoutConcurrency kLayoutConcurrency = LayoutConcurrency::kThreads;
   FunctionalTier(const MemoryImage& image, const TierConfig& config)
-      : backend_(image, config.caches, config.pixels, config.functional.rays_in_flight) {}
+      : backend_(image, config.caches, config.pixels, config.functional.rays_in_flight,
+                 config.functional.timed ? &config.cycle : nullptr) {}
 
   TraceBackend& backend() override { return backend_; }
   // traversal.{node,list,triangle}_fetches, the caches' keys (FetchCache::write_stats) and, in
-  // the interleaved mode, functional.rays_in_flight.
+  // the interleaved and timed modes, functional.rays_in_flight; in the timed mode
+  // functional.timed and the estimate.* keys (TimedInterleaver::write_stats).
   void write_stats(Stats& stats) const override;
   // The same keys from the streams' counters (what a cache sweep has for each of its points).
   static void write_stats(const FetchCache::Counters& counters, bool data_cache_on, Stats& stats);

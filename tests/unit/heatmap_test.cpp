@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <fstream>
 #include <numeric>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -17,22 +19,29 @@ namespace {
 namespace fs = std::filesystem;
 
 // Every ray's traffic is attributed to its pixel: the per-pixel bytes of each layout sum to that
-// layout's total, with every pixel present (none dropped).
+// layout's total, with every pixel present (none dropped); also when rays interleave (charged
+// when each ends: round-robin, and the timed mode).
 TEST(HeatmapTest, PixelBytesAddUpToTheLayoutsDramTotal) {
   const fs::path cfg = fs::temp_directory_path() / ("rtusim_heatmap_" + std::to_string(::getpid()) + ".toml");
   std::ofstream(cfg) << "[scene]\npath = \"builtin:cornell\"\n[image]\nwidth = 40\nheight = 30\n"
                         "[tracer]\nmax_depth = 4\n[layout]\nkind = [\"dfl\", \"odfl\", \"subtree\"]\n";
-  const Prepared p = prepare_run(cfg.string(), {});
-  fs::remove(cfg);
-  const SimulationResult r = simulate(p);
-  ASSERT_EQ(r.layouts.size(), 3u);
-  for (const LayoutRun& run : r.layouts) {
-    ASSERT_EQ(run.pixel_dram_bytes.size(), 40u * 30u) << run.kind;
-    const uint64_t sum = std::accumulate(run.pixel_dram_bytes.begin(), run.pixel_dram_bytes.end(),
-                                         uint64_t{0});
-    EXPECT_EQ(sum, run.stats.at("dram.bytes.total").get<uint64_t>()) << run.kind;
-    EXPECT_GT(sum, 0u);
+  const std::vector<std::vector<std::string>> modes = {
+      {},
+      {"tracer.ray_order=wavefront", "functional.rays_in_flight=8"},
+      {"tracer.ray_order=wavefront", "functional.rays_in_flight=8", "functional.timed=true"}};
+  for (const auto& mode : modes) {
+    const Prepared p = prepare_run(cfg.string(), mode);
+    const SimulationResult r = simulate(p);
+    ASSERT_EQ(r.layouts.size(), 3u);
+    for (const LayoutRun& run : r.layouts) {
+      ASSERT_EQ(run.pixel_dram_bytes.size(), 40u * 30u) << run.kind;
+      const uint64_t sum = std::accumulate(run.pixel_dram_bytes.begin(),
+                                           run.pixel_dram_bytes.end(), uint64_t{0});
+      EXPECT_EQ(sum, run.stats.at("dram.bytes.total").get<uint64_t>()) << run.kind;
+      EXPECT_GT(sum, 0u);
+    }
   }
+  fs::remove(cfg);
 }
 
 // The scale runs from near-black (0 bytes) to pale yellow (the maximum), brighter with more bytes,

@@ -7,9 +7,7 @@
 namespace rtusim {
 
 Dram::Dram(const sc_core::sc_module_name& name, const DramParams& p)
-    : Dram(name, DramBackends::dispatch(p.backend, [&]<class B>() -> std::unique_ptr<DramBackend> {
-        return std::make_unique<B>(p);
-      })) {}
+    : Dram(name, make_dram_backend(p)) {}
 
 Dram::Dram(const sc_core::sc_module_name& name, std::unique_ptr<DramBackend> backend)
     : sc_module(name), target_socket("target_socket"), backend_(std::move(backend)) {

@@ -1,0 +1,227 @@
+// The approximately timed interleaved functional mode (see timed_interleaver.h).
+#include "tier/timed_interleaver.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "layout/layout_dispatch.h"
+#include "mem/dram/dram_backends.h"
+#include "util/stats.h"
+
+namespace rtusim {
+
+TimedInterleaver::TimedInterleaver(const MemoryImage& image, const CycleParams& timing,
+                                   int rays_in_flight)
+    : image_(image),
+      unit_(timing.unit),
+      period_ps_(timing.unit.clock_period_ps),
+      data_line_bytes_(timing.unit.data_line_bytes),
+      dram_(make_dram_backend(timing.dram)),
+      slots_(static_cast<size_t>(rays_in_flight)),
+      events_(static_cast<uint32_t>(rays_in_flight), /*slot_order=*/true),
+      lane_free_(timing.unit.isect_lanes, 0) {
+  if (period_ps_ == 0) throw std::logic_error("timed interleaver: clock period not derived");
+  auto l1_timing = [](L1Timing& t, const L1Params& p) {
+    t.hit_cycles = p.hit_cycles;
+    t.line_bytes = p.cache.line_bytes;
+    t.mshrs.resize(p.mshrs);
+  };
+  l1_timing(node_l1_, timing.node_l1);
+  if (timing.data_cache) {
+    data_cache_ = std::make_unique<L1Timing>();
+    l1_timing(*data_cache_, *timing.data_cache);
+  }
+}
+
+TimedInterleaver::~TimedInterleaver() = default;
+
+uint64_t TimedInterleaver::dram_read(uint64_t addr, uint32_t bytes, Stream s, uint64_t t) {
+  // Decided at once: the queue holds this read only, so it goes when its bank is ready.
+  dram_->enqueue({dram_requests_++, addr, bytes, t * period_ps_, s});
+  done_.clear();
+  dram_->advance(dram_->next_decision_ps(), done_);
+  if (done_.size() != 1) throw std::logic_error("timed interleaver: DRAM read not decided");
+  return (done_[0].done_ps + period_ps_ - 1) / period_ps_;
+}
+
+uint64_t TimedInterleaver::l1_line(L1Timing& l1, uint64_t line, bool in_tags, Stream s,
+                                   uint64_t t) {
+  uint64_t c = std::max(t, l1.port_free);
+  L1Timing::Mshr* free_mshr = &l1.mshrs[0];
+  if (c < l1.busy_until) {  // some MSHR is busy: a merge, or a search for a free one
+    free_mshr = nullptr;
+    for (L1Timing::Mshr& m : l1.mshrs) {
+      if (c < m.fill && m.line == line) {  // merged: answered at the pending fill
+        l1.port_free = c + 1;
+        ++l1.merged;
+        return m.fill;
+      }
+      if (m.fill <= c && !free_mshr) free_mshr = &m;
+    }
+  }
+  l1.port_free = c + 1;
+  if (in_tags) return c + l1.hit_cycles;
+  if (!free_mshr) {  // the port waits for the earliest fill
+    free_mshr = &*std::min_element(l1.mshrs.begin(), l1.mshrs.end(),
+                                   [](const auto& a, const auto& b) { return a.fill < b.fill; });
+    l1.stall_cycles += free_mshr->fill - c;
+    c = free_mshr->fill;
+    l1.port_free = c + 1;
+  }
+  ++l1.primary;
+  free_mshr->line = line;
+  free_mshr->fill = dram_read(line * l1.line_bytes, l1.line_bytes, s, c + l1.hit_cycles);
+  l1.busy_until = std::max(l1.busy_until, free_mshr->fill);
+  return free_mshr->fill;
+}
+
+template <class Sink>
+uint64_t TimedInterleaver::send(Slot& slot, const Fetch& f, uint64_t t, Sink& sink,
+                                const FetchCache& caches) {
+  // The access itself: the caches' state and counts, its bytes charged to the ray.
+  auto account = [&] {
+    const uint64_t before = caches.dram_bytes_total();
+    sink.fetch(f.stream, f.addr, f.bytes);
+    slot.dram_bytes += caches.dram_bytes_total() - before;
+  };
+  if (f.bytes == 0) {
+    account();
+    return t;
+  }
+  const bool node = f.stream == Stream::kNode;
+  L1Timing* l1 = node ? &node_l1_ : data_cache_.get();
+  const uint64_t line_bytes = l1 ? l1->line_bytes : data_line_bytes_;
+  const uint64_t first = f.addr / line_bytes, last = (f.addr + f.bytes - 1) / line_bytes;
+  uint64_t ready = t;
+  if (!l1) {  // straight to DRAM: one request per line touched, as the unit sends them
+    account();
+    for (uint64_t line = first; line <= last; ++line)
+      ready = std::max(ready, dram_read(line * line_bytes, static_cast<uint32_t>(line_bytes),
+                                        f.stream, t));
+    return ready;
+  }
+  if (first == last) {  // one line: the access says whether it was in the tags
+    const uint64_t misses = caches.stream(f.stream).misses;
+    account();
+    return l1_line(*l1, first, caches.stream(f.stream).misses == misses, f.stream, t);
+  }
+  const SetAssocCache& tags = node ? caches.node_l1() : *caches.data_cache();
+  for (uint64_t line = first; line <= last; ++line)
+    ready = std::max(ready, l1_line(*l1, line, tags.contains(line * line_bytes), f.stream, t));
+  account();
+  return ready;
+}
+
+uint64_t TimedInterleaver::intersect(size_t tests, uint64_t t) {
+  uint64_t end = t;
+  for (size_t i = 0; i < tests; ++i) {
+    auto lane = std::min_element(lane_free_.begin(), lane_free_.end());
+    const uint64_t start = std::max(t, *lane);
+    *lane = start + unit_.isect_interval_cycles;
+    end = std::max(end, start + unit_.isect_latency_cycles);
+  }
+  return end;
+}
+
+void TimedInterleaver::trace(std::span<const RayRecord> rays, std::span<Hit> hits,
+                             FetchCache& caches,
+                             const std::function<void(uint32_t, uint64_t)>& charge) {
+  caches.with_inlined_node_l1([&](auto& sink) {
+    with_layout_decoder(image_, [&]<class Decoder>() {
+      run<Decoder>(rays, hits, sink, caches, charge);
+    });
+  });
+}
+
+template <class Decoder, class Sink>
+void TimedInterleaver::run(std::span<const RayRecord> rays, std::span<Hit> hits, Sink& sink,
+                           FetchCache& caches,
+                           const std::function<void(uint32_t, uint64_t)>& charge) {
+  size_t next = 0;
+  // Starts the batch's next ray that enters the scene's bounds in `slot` at cycle t.
+  auto start = [&](uint32_t slot, uint64_t t) {
+    Slot& s = slots_[slot];
+    while (next < rays.size()) {
+      s.ray = static_cast<uint32_t>(next++);
+      traversal_begin(s.st, image_, rays[s.ray].ray, rays[s.ray].any_hit());
+      if (s.st.done) {  // misses the bounds: no step at all
+        hits[s.ray] = s.st.hit;
+        continue;
+      }
+      s.phase = Phase::kStep;
+      s.dram_bytes = 0;
+      events_.push(t, slot);
+      return;
+    }
+  };
+  auto finish = [&](uint32_t slot, uint64_t t) {
+    Slot& s = slots_[slot];
+    hits[s.ray] = s.st.hit;
+    charge(rays[s.ray].pixel, s.dram_bytes);
+    last_cycle_ = std::max(last_cycle_, t);
+    start(slot, t);
+  };
+  const uint64_t t0 = last_cycle_;
+  for (uint32_t i = 0; i < slots_.size(); ++i) start(i, t0);
+  while (!events_.empty()) {
+    uint64_t t;
+    const uint32_t slot = events_.pop(t);
+    Slot& s = slots_[slot];
+    const size_t first_triangle =
+        s.fetches.size() > 1 && s.fetches[1].stream == Stream::kList ? 2 : 1;
+    switch (s.phase) {
+      case Phase::kStep: {
+        const uint64_t c = std::max(t, step_free_);  // the step pipeline: one step a cycle
+        step_free_ = c + 1;
+        s.fetches.clear();
+        Recorder rec{&s.fetches};
+        const StepKind kind = traversal_step<Decoder>(s.st, image_, rec);
+        if (kind == StepKind::kDone) {  // not reached: rays end after their leaf
+          finish(slot, c);
+          break;
+        }
+        const uint64_t decided = send(s, s.fetches[0], c, sink, caches) + unit_.step_cycles;
+        if (kind == StepKind::kLeaf) s.phase = Phase::kLeafBody;
+        events_.push(decided, slot);
+        break;
+      }
+      case Phase::kLeafBody:
+        if (first_triangle == 2) {
+          const uint64_t ready = send(s, s.fetches[1], t, sink, caches);
+          s.phase = Phase::kTriangles;
+          events_.push(ready, slot);
+          break;
+        }
+        [[fallthrough]];
+      case Phase::kTriangles:
+        if (first_triangle < s.fetches.size()) {
+          uint64_t ready = t;
+          for (size_t i = first_triangle; i < s.fetches.size(); ++i)
+            ready = std::max(ready, send(s, s.fetches[i], t, sink, caches));
+          s.phase = Phase::kIsect;
+          events_.push(ready, slot);
+          break;
+        }
+        [[fallthrough]];  // an empty leaf
+      case Phase::kIsect: {
+        const uint64_t end = intersect(s.fetches.size() - first_triangle, t);
+        if (s.st.done) {
+          finish(slot, end);
+        } else {
+          s.phase = Phase::kStep;
+          events_.push(end, slot);
+        }
+        break;
+      }
+    }
+  }
+}
+
+void TimedInterleaver::write_stats(Stats& stats) const {
+  stats.set("estimate.cycles", last_cycle_);
+  stats.set("estimate.l1.primary_misses", node_l1_.primary);
+  stats.set("estimate.l1.merged_misses", node_l1_.merged);
+  stats.set("estimate.l1.mshr_stall_cycles", node_l1_.stall_cycles);
+}
+
+}  // namespace rtusim

@@ -1,0 +1,113 @@
+// The interleaved functional mode with approximate time (functional.timed = true): the rays in
+// flight take their traversal steps in the order of a cheap, SystemC-free model of the unit's
+// timing, not in strict turns, so rays whose nodes hit overtake rays that wait for DRAM as in
+// the cycle tier. The caches' hit/miss state and byte counts stay the functional tier's
+// (FetchCache); the model only decides the order of the accesses and when each ray finishes.
+//
+// The model, in cycles of the unit's clock, from the cycle tier's own keys (CycleParams):
+//  - each ray in flight has a next event (cycle, slot); the earliest goes first (ties by slot);
+//  - a traversal step takes the step pipeline's next free cycle (one step per cycle), looks
+//    its node's lines up in the node L1 (one lookup per cycle), is decided step_cycles after the
+//    last line is in; a leaf then reads its list, then its triangles, then tests them in the
+//    intersection lanes (isect.lanes, .interval_cycles, .latency_cycles), as the unit does;
+//  - an L1 line (node L1, and the data cache when dcache.enable): a line with a busy MSHR
+//    merges and waits for its fill; a line in the tags answers hit_cycles later; else a free
+//    MSHR sends the line read to DRAM hit_cycles later and the fill answers it; with none free
+//    the lookup port waits for the earliest fill;
+//  - DRAM: the configured timing model (dram.backend, its banks, rows and bus) with each read
+//    decided as soon as it is sent: first come, first served, no FR-FCFS reordering.
+// Not modelled: the L1's fill port (one fill per cycle), its in-order port across rays of the
+// same cycle, the step pipeline's booking ahead of time. estimate.cycles (the last ray's end) is
+// therefore an estimate of the cycle tier's sim.cycles, not a cycle count.
+#pragma once
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "cache/stream_caches.h"
+#include "layout/memory_image.h"
+#include "mem/dram/dram_backend.h"
+#include "model/cycle_params.h"
+#include "model/event_wheel.h"
+#include "tracer/ray_batch.h"
+#include "traversal/fetch_recorder.h"
+#include "traversal/traversal.h"
+
+namespace rtusim {
+
+class Stats;
+
+class TimedInterleaver {
+ public:
+  // `timing` derived (CycleParams::derive()); `image` must outlive the interleaver.
+  TimedInterleaver(const MemoryImage& image, const CycleParams& timing, int rays_in_flight);
+  ~TimedInterleaver();
+
+  // Traces a batch through `caches`; calls charge(pixel, DRAM bytes) once per ray with the
+  // bytes its fetches caused. Time goes on from the previous batch's end.
+  void trace(std::span<const RayRecord> rays, std::span<Hit> hits, FetchCache& caches,
+             const std::function<void(uint32_t, uint64_t)>& charge);
+
+  uint64_t cycles() const { return last_cycle_; }
+  // estimate.cycles, estimate.l1.{primary,merged}_misses, estimate.l1.mshr_stall_cycles.
+  void write_stats(Stats& stats) const;
+
+ private:
+  enum class Phase : uint8_t { kStep, kLeafBody, kTriangles, kIsect };
+  using Fetch = RecordedFetch;
+  using Recorder = FetchRecorder;
+  struct Slot {
+    TraversalState st;
+    uint32_t ray = 0;
+    Phase phase = Phase::kStep;
+    std::vector<Fetch> fetches;  // of the current step, in issue order
+    uint64_t dram_bytes = 0;     // of the current ray, charged when it ends
+  };
+  // One L1's timing: MSHRs (line, fill cycle) and the lookup port.
+  struct L1Timing {
+    uint32_t hit_cycles = 1;
+    uint32_t line_bytes = 64;
+    struct Mshr {
+      uint64_t line = ~uint64_t{0};
+      uint64_t fill = 0;  // busy before this cycle
+    };
+    std::vector<Mshr> mshrs;
+    uint64_t port_free = 0;
+    uint64_t busy_until = 0;  // the latest fill: no MSHR is busy from here on
+    uint64_t primary = 0, merged = 0, stall_cycles = 0;
+  };
+  template <class Decoder, class Sink>
+  void run(std::span<const RayRecord> rays, std::span<Hit> hits, Sink& sink, FetchCache& caches,
+           const std::function<void(uint32_t, uint64_t)>& charge);
+  // Sends fetch `f` of `slot`'s ray at cycle t: to the functional caches through `sink` (their
+  // state and counts; its DRAM bytes charged to the ray) and through the timing model; returns
+  // the cycle its data is all there.
+  template <class Sink>
+  uint64_t send(Slot& slot, const Fetch& f, uint64_t t, Sink& sink, const FetchCache& caches);
+  // The cycle line number `line` (in the tags before the access: `in_tags`) looked up in `l1`
+  // from cycle t is there.
+  uint64_t l1_line(L1Timing& l1, uint64_t line, bool in_tags, Stream s, uint64_t t);
+  // The cycle a DRAM read of `bytes` at `addr` sent at cycle t completes.
+  uint64_t dram_read(uint64_t addr, uint32_t bytes, Stream s, uint64_t t);
+  // End of intersection tests of `tests` triangles whose data is there at cycle t.
+  uint64_t intersect(size_t tests, uint64_t t);
+
+  const MemoryImage& image_;
+  UnitParams unit_;
+  uint64_t period_ps_;
+  uint32_t data_line_bytes_;
+  L1Timing node_l1_;
+  std::unique_ptr<L1Timing> data_cache_;  // nullptr: lists and triangles straight to DRAM
+  std::unique_ptr<DramBackend> dram_;
+  std::vector<DramCompletion> done_;  // scratch
+  uint64_t dram_requests_ = 0;
+  std::vector<Slot> slots_;
+  EventWheel events_;  // each busy slot's next event, by cycle, then slot
+  uint64_t step_free_ = 0;           // the step pipeline's next free cycle
+  std::vector<uint64_t> lane_free_;  // per intersection lane: next cycle it takes a test
+  uint64_t last_cycle_ = 0;          // the last ray's end so far
+};
+
+}  // namespace rtusim
