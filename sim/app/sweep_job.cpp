@@ -88,12 +88,12 @@ void run_functional(const SweepPlan& plan, const SweepJob& job, const std::strin
       }
     // One traced frame: every cache of the layout evaluated as the fetches come.
     const MemoryImage& image = p.images[li];
-    CacheSweep nodes(node_cfgs.list, image.bytes.size(), threads);
+    CacheSweep nodes(node_cfgs.list, image.bytes.size(),
+                     CacheSweep::parts_for(node_cfgs.list, threads));
     std::optional<CacheSweep> data;
-    if (!data_cfgs.list.empty()) data.emplace(data_cfgs.list, image.bytes.size(), threads);
-    nodes.set_threads(threads);
-    if (data) data->set_threads(threads);
-    SweepBackend backend(image, nodes, data ? &*data : nullptr);
+    if (!data_cfgs.list.empty())
+      data.emplace(data_cfgs.list, image.bytes.size(), CacheSweep::parts_for(data_cfgs.list, threads));
+    SweepBackend backend(image, nodes, data ? &*data : nullptr, threads);
     WhittedTracer tracer(p.scene, p.config.tracer, backend);
     const auto t0 = std::chrono::steady_clock::now();
     const FrameResult frame = tracer.render(PinholeCamera(p.camera, w, h), w, h);

@@ -148,33 +148,41 @@ CacheSweep::CacheSweep(const std::vector<CacheParams>& configs, uint64_t image_b
 
 CacheSweep::~CacheSweep() = default;
 
+unsigned CacheSweep::parts_for(const std::vector<CacheParams>& configs, unsigned threads) {
+  std::set<uint32_t> lines;
+  for (const CacheParams& c : configs)
+    if (c.policy == "lru") lines.insert(c.line_bytes);
+  const auto n = static_cast<unsigned>(std::max<size_t>(1, lines.size()));
+  return (std::max(1u, threads) + n - 1) / n;
+}
+
+void CacheSweep::feed_task(size_t task, std::span<const SweepFetch> fetches) {
+  if (task < groups_.size()) return groups_[task]->feed(fetches);
+  SideCache& s = side_[task - groups_.size()];
+  s.cache.visit([&](auto& cache) {
+    for (const SweepFetch& f : fetches) {
+      if (f.bytes == 0) continue;
+      const uint64_t before = cache.accesses();
+      s.misses[f.tag] += cache.access_range(f.addr, f.bytes);
+      s.accesses[f.tag] += cache.accesses() - before;
+    }
+  });
+}
+
 void CacheSweep::feed(std::span<const SweepFetch> fetches) {
-  // Task t < groups: a line-size group; then one per side-by-side cache.
-  const size_t tasks = groups_.size() + side_.size();
-  const auto run = [&](size_t t) {
-    if (t < groups_.size()) return groups_[t]->feed(fetches);
-    SideCache& s = side_[t - groups_.size()];
-    s.cache.visit([&](auto& cache) {
-      for (const SweepFetch& f : fetches) {
-        if (f.bytes == 0) continue;
-        const uint64_t before = cache.accesses();
-        s.misses[f.tag] += cache.access_range(f.addr, f.bytes);
-        s.accesses[f.tag] += cache.accesses() - before;
-      }
-    });
-  };
-  const size_t workers = std::min<size_t>(threads_, tasks);
+  const size_t n = tasks();
+  const size_t workers = std::min<size_t>(threads_, n);
   if (workers <= 1) {
-    for (size_t t = 0; t < tasks; ++t) run(t);
+    for (size_t t = 0; t < n; ++t) feed_task(t, fetches);
     return;
   }
   // Worker w takes tasks w, w + workers, ...; worker 0 is this thread.
   std::vector<std::future<void>> others;
   for (size_t w = 1; w < workers; ++w)
     others.push_back(std::async(std::launch::async, [&, w] {
-      for (size_t t = w; t < tasks; t += workers) run(t);
+      for (size_t t = w; t < n; t += workers) feed_task(t, fetches);
     }));
-  for (size_t t = 0; t < tasks; t += workers) run(t);
+  for (size_t t = 0; t < n; t += workers) feed_task(t, fetches);
   for (auto& f : others) f.get();
 }
 

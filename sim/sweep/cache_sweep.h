@@ -34,12 +34,20 @@ class CacheSweep {
   // of each line size are split into up to `parts` groups of about equal work (one per thread
   // that will feed it; one part walks fewest stacks).
   CacheSweep(const std::vector<CacheParams>& configs, uint64_t image_bytes, unsigned parts = 1);
+  // The parts per line size that give `threads` workers a task each: the line sizes share out
+  // the threads (a split costs a second walk of the line stream).
+  static unsigned parts_for(const std::vector<CacheParams>& configs, unsigned threads);
   ~CacheSweep();
 
   // Feeds a chunk of fetches, in order, to every configuration. The line-size groups and the
   // side-by-side caches are independent: with threads() > 1 they share out the chunk's work
   // (the counts are the same for any thread count).
   void feed(std::span<const SweepFetch> fetches);
+  // The same work as independent tasks (a line-size group, or a side-by-side cache): feeding
+  // every task every chunk, each task its chunks in order, gives feed()'s counts, whichever
+  // tasks run at the same time (SweepPipeline).
+  size_t tasks() const { return groups_.size() + side_.size(); }
+  void feed_task(size_t task, std::span<const SweepFetch> fetches);
   void set_threads(unsigned n) { threads_ = n ? n : 1; }
   unsigned threads() const { return threads_; }
 

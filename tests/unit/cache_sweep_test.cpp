@@ -8,6 +8,7 @@
 
 #include "cache/set_assoc_cache.h"
 #include "sweep/cache_sweep.h"
+#include "sweep/sweep_pipeline.h"
 
 namespace rtusim {
 namespace {
@@ -50,9 +51,18 @@ TEST(CacheSweep, EqualsOneCachePerConfiguration) {
   CacheSweep sweep(configs, image_bytes, 3);  // set counts split in three parts per line
   sweep.set_threads(3);  // the groups and side caches shared out: the same counts
   CacheSweep whole(configs, image_bytes);  // one part per line: every set count in one walk
-  for (size_t at = 0; at < stream.size(); at += 777) {  // uneven chunks
-    sweep.feed(std::span(stream).subspan(at, std::min<size_t>(777, stream.size() - at)));
-    whole.feed(std::span(stream).subspan(at, std::min<size_t>(777, stream.size() - at)));
+  CacheSweep piped(configs, image_bytes, 2);  // fed by a pipeline: tasks run ahead of each other
+  {
+    SweepPipeline pipeline({&piped}, 3, 4);
+    SweepPipeline::Lists chunk(1);
+    for (size_t at = 0; at < stream.size(); at += 777) {  // uneven chunks
+      const auto part = std::span(stream).subspan(at, std::min<size_t>(777, stream.size() - at));
+      sweep.feed(part);
+      whole.feed(part);
+      chunk[0].assign(part.begin(), part.end());
+      pipeline.push(chunk);
+    }
+    pipeline.finish();
   }
 
   for (size_t i = 0; i < configs.size(); ++i) {
@@ -70,6 +80,8 @@ TEST(CacheSweep, EqualsOneCachePerConfiguration) {
     EXPECT_EQ(sweep.misses(i), miss);
     EXPECT_EQ(whole.accesses(i), acc);
     EXPECT_EQ(whole.misses(i), miss);
+    EXPECT_EQ(piped.accesses(i), acc);
+    EXPECT_EQ(piped.misses(i), miss);
     EXPECT_GT(miss[0] + miss[1] + miss[2], 0u);
   }
 }
