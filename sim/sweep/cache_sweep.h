@@ -1,6 +1,7 @@
 // Many cache configurations over one fetch stream in one pass: the sweep's memory side.
-// LRU configurations of one line size share a stack-distance pass (SetLruStacks per set count,
-// FullyAssocLruStack for the one-set caches; the set counts of a line size may be split into
+// LRU configurations of one line size share a stack-distance pass (PairedSetStacks, or
+// SetLruStacks per set count when one is deeper than 8 ways, FullyAssocLruStack for the one-set
+// caches; the set counts of a line size may be split into
 // parts walked by different threads); FIFO, tree-PLRU and random are simulated side by
 // side, each in its own cache, over the same decoded stream. Every configuration counts exactly
 // what FetchCache counts for that cache: a fetch touching k lines is k accesses, in order.

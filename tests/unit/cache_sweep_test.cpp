@@ -31,13 +31,16 @@ std::vector<SweepFetch> make_stream(uint64_t image_bytes, size_t n, uint32_t see
   return out;
 }
 
-TEST(CacheSweep, EqualsOneCachePerConfiguration) {
+// Every configuration of `policies` x lines 16, 32, 64 B x sizes 256 B .. 4 KB x `assocs` (0:
+// full) that fits, in one pass (parts and threads of several kinds), against one cache each.
+void expect_equal_to_one_cache_each(const std::vector<const char*>& policies,
+                                    const std::vector<uint32_t>& assocs) {
   const uint64_t image_bytes = 1 << 16;
   std::vector<CacheParams> configs;
-  for (const char* policy : {"lru", "fifo", "tree-plru", "random"})
+  for (const char* policy : policies)
     for (const uint32_t line : {16u, 32u, 64u})
       for (const uint64_t size : {256u, 1024u, 4096u})
-        for (const uint32_t assoc : {1u, 2u, 4u, 8u, 16u, 0u}) {  // 0: full
+        for (const uint32_t assoc : assocs) {
           CacheParams c;
           c.policy = policy;
           c.line_bytes = line;
@@ -84,6 +87,17 @@ TEST(CacheSweep, EqualsOneCachePerConfiguration) {
     EXPECT_EQ(piped.misses(i), miss);
     EXPECT_GT(miss[0] + miss[1] + miss[2], 0u);
   }
+}
+
+TEST(CacheSweep, EqualsOneCachePerConfiguration) {
+  // 16 ways: the set counts walked one SetLruStacks after the other.
+  expect_equal_to_one_cache_each({"lru", "fifo", "tree-plru", "random"}, {1, 2, 4, 8, 16, 0});
+}
+
+TEST(CacheSweep, ShallowSetCountsWalkedInPairs) {
+  // At most 8 ways: PairedSetStacks, with odd and even set-count counts per line and part.
+  expect_equal_to_one_cache_each({"lru"}, {1, 2, 4, 8, 0});
+  expect_equal_to_one_cache_each({"lru"}, {2, 8});
 }
 
 TEST(CacheSweep, OneSetStackAtManyCapacities) {
