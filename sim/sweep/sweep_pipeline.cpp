@@ -28,6 +28,7 @@ void SweepPipeline::push(Lists& lists) {
   if (error_) std::rethrow_exception(error_);
   chunks_.push_back(std::move(lists));
   ++pushed_;
+  if (tasks_.empty()) release();  // nothing to feed: no worker would release it
   if (spare_.empty()) {
     lists.assign(chunks_.back().size(), {});
   } else {
