@@ -60,9 +60,9 @@ int sweep_command() {
     dir.write_job(o.group, run_sweep_job(plan, o.group, dir.base_config(), std::max(1u, threads)));
     return 0;
   }
-  size_t skipped = 0;
-  for (size_t j = 0; j < plan.jobs.size(); ++j) skipped += dir.job_done(j) ? 1 : 0;
-  if (const int rc = run_sweep_jobs(plan, dir, o.run); rc != 0) return rc;
+  const std::vector<size_t> pending = pending_sweep_jobs(plan, dir);
+  const size_t skipped = plan.jobs.size() - pending.size();
+  if (const int rc = run_sweep_jobs(plan, dir, o.run, pending); rc != 0) return rc;
   dir.write_results(plan);
   std::printf("rtusim sweep %s -> %s/results.csv: %zu points in %zu jobs (%zu done before), "
               "%.1f s\n",

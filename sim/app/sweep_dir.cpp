@@ -1,7 +1,5 @@
 #include "app/sweep_dir.h"
 
-#include <unistd.h>
-
 #include <fstream>
 #include <map>
 #include <set>
@@ -9,17 +7,28 @@
 #include <stdexcept>
 
 #include "util/error.h"
+#include "util/output_files.h"
+#include "util/read_text_file.h"
 
 namespace rtusim {
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
+// The file's text; empty when it cannot be read (then it does not parse).
+std::string read_text(const fs::path& p) { return read_text_file(p).value_or(""); }
+
+// Writes `text` to `path` through an OutputFile: a temporary file (removed if a signal stops
+// the process) renamed over `path`, so a reader sees the old file or the whole new one.
+void write_file_atomically(const fs::path& path, const std::string& text) {
+  OutputFile file(path);
+  {
+    std::ofstream out(file.temp_path(), std::ios::binary);
+    out << text;
+    out.flush();
+    if (!out) throw InputError(file.temp_path().string() + ": cannot write");
+  }
+  file.commit();
 }
 
 nlohmann::json identity(const SweepPlan& plan) {
@@ -51,17 +60,6 @@ std::string json_cell(const nlohmann::json& v) {
 }
 
 }  // namespace
-
-void write_file_atomically(const fs::path& path, const std::string& text) {
-  const fs::path tmp = path.string() + ".tmp" + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    out << text;
-    out.flush();
-    if (!out) throw std::runtime_error("cannot write " + tmp.string());
-  }
-  fs::rename(tmp, path);
-}
 
 SweepDir::SweepDir(fs::path dir, const SweepPlan& plan) : dir_(std::move(dir)) {
   const fs::path id_file = dir_ / "sweep.json";

@@ -1,7 +1,7 @@
 // The output directory of a sweep, and what makes it resumable:
 //   sweep.toml   the spec as given;  sweep.json  what identifies the sweep (spec text, --set)
 //   base.toml    the base config every point runs on
-//   jobs/K.json  the rows of finished job K, each written atomically (temporary file + rename)
+//   jobs/K.json  the rows of finished job K, each written atomically (OutputFile)
 //   logs/K.log   what job K printed;  results.csv, timings.csv  when every job is done
 // A rerun with the same spec skips the jobs whose file exists; a different spec in a directory
 // that holds a sweep is an InputError.
@@ -34,8 +34,5 @@ class SweepDir {
  private:
   std::filesystem::path dir_;
 };
-
-// Writes `text` to `path` through a temporary file of this process and a rename.
-void write_file_atomically(const std::filesystem::path& path, const std::string& text);
 
 }  // namespace rtusim

@@ -1,7 +1,8 @@
 #include "app/sweep_job.h"
 
-#include <chrono>
 #include <algorithm>
+#include <chrono>
+#include <map>
 #include <optional>
 #include <tuple>
 
@@ -18,14 +19,14 @@ auto cache_tuple(const CacheParams& c) {
   return std::make_tuple(c.size_bytes, c.assoc, c.line_bytes, c.policy, c.seed);
 }
 
-// Distinct cache configurations, and each point's index among them.
+// Distinct cache configurations: add() gives a configuration's index, adding it when new.
 struct Configs {
   std::vector<CacheParams> list;
+  std::map<decltype(cache_tuple(CacheParams{})), size_t> index;
   size_t add(const CacheParams& c) {
-    for (size_t i = 0; i < list.size(); ++i)
-      if (cache_tuple(list[i]) == cache_tuple(c)) return i;
-    list.push_back(c);
-    return list.size() - 1;
+    const auto [it, added] = index.try_emplace(cache_tuple(c), list.size());
+    if (added) list.push_back(c);
+    return it->second;
   }
 };
 
@@ -77,23 +78,25 @@ void run_functional(const SweepPlan& plan, const SweepJob& job, const std::strin
   const int w = p.config.image.width, h = p.config.image.height;
 
   for (size_t li = 0; li < kinds.size(); ++li) {
-    // The distinct caches of this layout's points.
+    // The distinct caches of this layout's points, and each point's indices among them.
+    struct PointCaches {
+      size_t point, node_cfg, data_cfg;
+    };
     Configs node_cfgs, data_cfgs;
-    std::vector<size_t> points;
+    std::vector<PointCaches> points;
     for (const size_t i : job.points)
       if (plan.points[i].layout == kinds[li]) {
-        points.push_back(i);
-        node_cfgs.add(plan.points[i].caches.node_l1);
-        if (plan.points[i].caches.data_cache) data_cfgs.add(*plan.points[i].caches.data_cache);
+        const FetchCacheParams& c = plan.points[i].caches;
+        points.push_back({i, node_cfgs.add(c.node_l1), c.data_cache ? data_cfgs.add(*c.data_cache) : 0});
       }
     // One traced frame: every cache of the layout evaluated as the fetches come.
     const MemoryImage& image = p.images[li];
-    CacheSweep nodes(node_cfgs.list, image.bytes.size(), threads);
+    CacheSweep nodes(node_cfgs.list, image.bytes.size(),
+                     CacheSweep::parts_for(node_cfgs.list, threads));
     std::optional<CacheSweep> data;
-    if (!data_cfgs.list.empty()) data.emplace(data_cfgs.list, image.bytes.size(), threads);
-    nodes.set_threads(threads);
-    if (data) data->set_threads(threads);
-    SweepBackend backend(image, nodes, data ? &*data : nullptr);
+    if (!data_cfgs.list.empty())
+      data.emplace(data_cfgs.list, image.bytes.size(), CacheSweep::parts_for(data_cfgs.list, threads));
+    SweepBackend backend(image, nodes, data ? &*data : nullptr, threads);
     WhittedTracer tracer(p.scene, p.config.tracer, backend);
     const auto t0 = std::chrono::steady_clock::now();
     const FrameResult frame = tracer.render(PinholeCamera(p.camera, w, h), w, h);
@@ -105,16 +108,15 @@ void run_functional(const SweepPlan& plan, const SweepJob& job, const std::strin
     Stats base;
     add_run_stats(p, frame, base);
     add_image_stats(image, base);
-    for (const size_t i : points) {
-      const FetchCacheParams& c = plan.points[i].caches;
+    for (const PointCaches& pc : points) {
+      const FetchCacheParams& c = plan.points[pc.point].caches;
       const CacheParams* dc = c.data_cache ? &*c.data_cache : nullptr;
       Stats stats = base;
-      FunctionalTier::write_stats(
-          point_counters(backend, nodes, node_cfgs.add(c.node_l1), c.node_l1,
-                         data ? &*data : nullptr, dc ? data_cfgs.add(*dc) : 0, dc),
-          dc != nullptr, stats);
+      FunctionalTier::write_stats(point_counters(backend, nodes, pc.node_cfg, c.node_l1,
+                                                 data ? &*data : nullptr, pc.data_cfg, dc),
+                                  dc != nullptr, stats);
       add_report_stats(frame, p.config.report.frames_per_second, seconds, stats);
-      rows[std::to_string(i)] = to_json_row(stats);
+      rows[std::to_string(pc.point)] = to_json_row(stats);
     }
   }
 }

@@ -17,7 +17,7 @@ namespace rtusim {
 
 // {"job": K, "points": N, "seconds": S, "rows": {"<point index>": {stats key: value}}}.
 // `base_path` is the base config file (the sweep's base.toml); `threads` share out the cache
-// evaluation of a functional job (CacheSweep::set_threads).
+// evaluation of a functional job (SweepPipeline workers).
 nlohmann::json run_sweep_job(const SweepPlan& plan, size_t job, const std::string& base_path,
                              unsigned threads = 1);
 

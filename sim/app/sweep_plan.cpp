@@ -15,6 +15,7 @@
 #include "config/config_reader.h"
 #include "tier/functional_tier.h"
 #include "util/error.h"
+#include "util/read_text_file.h"
 
 namespace rtusim {
 namespace {
@@ -190,10 +191,9 @@ SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string
   {
     std::error_code ec;
     if (!fs::is_regular_file(spec_path, ec)) throw InputError(spec_path + ": sweep spec not found");
-    std::ifstream in(spec_path, std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    plan.spec_text = ss.str();
+    std::optional<std::string> text = read_text_file(spec_path);
+    if (!text) throw InputError(spec_path + ": cannot read sweep spec");
+    plan.spec_text = std::move(*text);
   }
   toml::table root;
   try {

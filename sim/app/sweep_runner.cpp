@@ -195,13 +195,17 @@ void draw_sweep_plots(const std::string& dir) {
   else std::printf("  plots skipped (%s)\n", last_line(log).c_str());
 }
 
-int run_sweep_jobs(const SweepPlan& plan, const SweepDir& dir, const SweepRunOptions& opts) {
+std::vector<size_t> pending_sweep_jobs(const SweepPlan& plan, const SweepDir& dir) {
   std::vector<size_t> pending;
-  size_t done_points = 0;
-  for (size_t j = 0; j < plan.jobs.size(); ++j) {
-    if (dir.job_done(j)) done_points += plan.jobs[j].points.size();
-    else pending.push_back(j);
-  }
+  for (size_t j = 0; j < plan.jobs.size(); ++j)
+    if (!dir.job_done(j)) pending.push_back(j);
+  return pending;
+}
+
+int run_sweep_jobs(const SweepPlan& plan, const SweepDir& dir, const SweepRunOptions& opts,
+                   const std::vector<size_t>& pending) {
+  size_t done_points = plan.points.size();
+  for (const size_t j : pending) done_points -= plan.jobs[j].points.size();
   if (!opts.scheduler.empty()) return run_dask(plan, dir, opts, pending);
   Progress progress(plan.points.size(), done_points);
   progress.draw();

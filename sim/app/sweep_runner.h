@@ -18,9 +18,13 @@ struct SweepRunOptions {
   std::string scheduler;  // tcp://HOST:PORT: Dask; empty: local
 };
 
-// Runs every job without a file in `dir`. Returns 0, or the exit status of the first failed job
-// (2 for bad input, 1 otherwise) after printing its last log line.
-int run_sweep_jobs(const SweepPlan& plan, const SweepDir& dir, const SweepRunOptions& opts);
+// The jobs of `plan` without a file in `dir` (not finished), in increasing order.
+std::vector<size_t> pending_sweep_jobs(const SweepPlan& plan, const SweepDir& dir);
+
+// Runs the `pending` jobs (pending_sweep_jobs()). Returns 0, or the exit status of the first
+// failed job (2 for bad input, 1 otherwise) after printing its last log line.
+int run_sweep_jobs(const SweepPlan& plan, const SweepDir& dir, const SweepRunOptions& opts,
+                   const std::vector<size_t>& pending);
 
 // Runs scripts/sweep_plot.py on DIR/results.csv (Python from $RTUSIM_PYTHON, the project's .venv
 // or python3); says so and goes on when it cannot (the table is the result, the plots a view).

@@ -4,10 +4,10 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 
 #include "util/error.h"
+#include "util/read_text_file.h"
 
 namespace rtusim {
 namespace {
@@ -66,11 +66,9 @@ ConfigReader ConfigReader::from_file(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec))
     throw InputError(path + ": config file not found");
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  if (!in) throw InputError(path + ": cannot read config file");
-  ConfigReader r = from_string(ss.str(), path);
+  const std::optional<std::string> text = read_text_file(path);
+  if (!text) throw InputError(path + ": cannot read config file");
+  ConfigReader r = from_string(*text, path);
   r.base_dir_ = std::filesystem::path(path).parent_path().string();
   return r;
 }

@@ -7,9 +7,15 @@
 #include <set>
 #include <stdexcept>
 
+#include "sweep/paired_set_stacks.h"
+
 namespace rtusim {
 
-// LRU engines sharing one line size: the line stream is decoded once for all of them.
+// LRU engines sharing one line size: the line stream is decoded once for all of them. The set
+// counts are walked in increasing order by a PairedSetStacks when every one is at most 8 ways
+// deep, else one SetLruStacks after the other; either way the walk stops at the first set count
+// where the line is the most recent (Hill & Smith's set refinement: it is then the most recent
+// at every larger set count, where the access changes nothing).
 struct CacheSweep::LineGroup {
   uint32_t shift = 0;
   PerTag accesses{};
@@ -18,9 +24,35 @@ struct CacheSweep::LineGroup {
   std::unique_ptr<FullyAssocLruStack> full;
   std::vector<uint64_t> full_capacities;         // lines, increasing
   std::vector<PerTag> full_hist;                 // per region (+1: misses in all)
-  std::vector<SetLruStacks> set_stacks;
-  std::vector<std::vector<PerTag>> set_hist;     // per engine, per distance (+1: beyond)
-  std::vector<PerTag> mru_from;  // accesses at distance 0 in engine e and every later engine
+  std::vector<uint64_t> sets;                    // per set-count engine, increasing
+  std::unique_ptr<PairedSetStacks> paired;       // the engines, when all are shallow
+  std::vector<SetLruStacks> set_stacks;          // the engines otherwise
+  size_t engines = 0;                            // walked (paired: with its padding)
+  uint32_t stride = 0;                           // histogram entries per engine
+  std::vector<uint64_t> hist;     // [tag][engine][distance (depth: beyond)]
+  std::vector<uint64_t> stopped;  // [tag][e]: walks that stopped before engine e
+
+  // Makes the set-count engines: `depth_of` maps set count -> most ways.
+  void add_sets(const std::vector<std::pair<uint64_t, uint32_t>>& depth_of) {
+    std::vector<uint32_t> depths;
+    for (const auto& [n, depth] : depth_of) {
+      sets.push_back(n);
+      depths.push_back(depth);
+    }
+    const uint32_t deepest = depths.empty() ? 0 : *std::max_element(depths.begin(), depths.end());
+    if (deepest <= PairedSetStacks::kMaxDepth) {
+      paired = std::make_unique<PairedSetStacks>(sets, depths);
+      engines = paired->size();
+      stride = PairedSetStacks::kStride;
+    } else {
+      for (size_t e = 0; e < sets.size(); ++e)
+        set_stacks.emplace_back(static_cast<uint32_t>(sets[e]), depths[e]);
+      engines = set_stacks.size();
+      stride = deepest + 1;
+    }
+    hist.assign(kTags * engines * stride, 0);
+    stopped.assign(kTags * (engines + 1), 0);
+  }
 
   void feed(std::span<const SweepFetch> fetches) {
     constexpr size_t kAhead = 4;  // fetches between a line's prefetch and its access
@@ -41,17 +73,22 @@ struct CacheSweep::LineGroup {
         }
         last_line = line;
         if (full) ++full_hist[full->access(static_cast<uint32_t>(line))][f.tag];
-        // Set counts in increasing order: the most recent line of its set at s sets is also
-        // the most recent of its (smaller) set at every larger set count, where the access
-        // then changes nothing (Hill & Smith's set refinement), so the walk stops there.
-        for (size_t e = 0; e < set_stacks.size(); ++e) {
-          const uint32_t d = set_stacks[e].access(line);
-          if (d == 0) {
-            ++mru_from[e][f.tag];
-            break;
+        if (engines == 0) continue;
+        uint64_t* h = hist.data() + f.tag * engines * stride;
+        size_t stop = engines;
+        if (paired) {
+          stop = paired->access(line, h);
+        } else {
+          for (size_t e = 0; e < set_stacks.size(); ++e) {
+            const uint32_t d = set_stacks[e].access(line);
+            ++h[e * stride + d];
+            if (d == 0) {
+              stop = e + 1;
+              break;
+            }
           }
-          ++set_hist[e][d][f.tag];
         }
+        ++stopped[f.tag * (engines + 1) + stop];
       }
     }
   }
@@ -61,6 +98,17 @@ struct CacheSweep::LineGroup {
     PerTag h{};
     for (uint32_t d = 0; d < n; ++d)
       for (int t = 0; t < kTags; ++t) h[t] += hist[d][t];
+    return h;
+  }
+
+  // Hits of engine e's caches of `ways` ways: distances below `ways` where it was walked, and
+  // every walk that stopped before it.
+  PerTag set_hits(size_t e, uint32_t ways) const {
+    PerTag h{};
+    for (int t = 0; t < kTags; ++t) {
+      for (uint32_t d = 0; d < ways; ++d) h[t] += hist[(t * engines + e) * stride + d];
+      for (size_t s = 0; s <= e; ++s) h[t] += stopped[t * (engines + 1) + s];
+    }
     return h;
   }
 };
@@ -110,13 +158,12 @@ CacheSweep::CacheSweep(const std::vector<CacheParams>& configs, uint64_t image_b
       }
       Part p{static_cast<int>(groups_.size()), {}};
       const size_t until = weight * (part + 1) / n;
+      std::vector<std::pair<uint64_t, uint32_t>> part_depths;
       for (; next_sets != set_depths.end() && (done < until || part + 1 == n); ++next_sets, ++done) {
-        const auto& [sets, ways] = *next_sets;
-        g->set_stacks.emplace_back(static_cast<uint32_t>(sets), ways);
-        g->set_hist.emplace_back(ways + 1, PerTag{});
-        g->mru_from.emplace_back();
-        p.sets.insert(sets);
+        part_depths.push_back(*next_sets);
+        p.sets.insert(next_sets->first);
       }
+      g->add_sets(part_depths);
       parts_of_line[c.line_bytes].push_back(std::move(p));
       groups_.push_back(std::move(g));
     }
@@ -134,8 +181,7 @@ CacheSweep::CacheSweep(const std::vector<CacheParams>& configs, uint64_t image_b
         const auto& caps = g.full_capacities;
         w.level = static_cast<uint32_t>(std::find(caps.begin(), caps.end(), c.assoc) - caps.begin());
       } else {
-        for (size_t e = 0; e < g.set_stacks.size(); ++e)
-          if (g.set_stacks[e].sets() == c.sets()) w.engine = static_cast<int>(e);
+        w.engine = static_cast<int>(std::find(g.sets.begin(), g.sets.end(), c.sets()) - g.sets.begin());
         w.level = c.assoc;
       }
     } else {
@@ -148,33 +194,41 @@ CacheSweep::CacheSweep(const std::vector<CacheParams>& configs, uint64_t image_b
 
 CacheSweep::~CacheSweep() = default;
 
+unsigned CacheSweep::parts_for(const std::vector<CacheParams>& configs, unsigned threads) {
+  std::set<uint32_t> lines;
+  for (const CacheParams& c : configs)
+    if (c.policy == "lru") lines.insert(c.line_bytes);
+  const auto n = static_cast<unsigned>(std::max<size_t>(1, lines.size()));
+  return (std::max(1u, threads) + n - 1) / n;
+}
+
+void CacheSweep::feed_task(size_t task, std::span<const SweepFetch> fetches) {
+  if (task < groups_.size()) return groups_[task]->feed(fetches);
+  SideCache& s = side_[task - groups_.size()];
+  s.cache.visit([&](auto& cache) {
+    for (const SweepFetch& f : fetches) {
+      if (f.bytes == 0) continue;
+      const uint64_t before = cache.accesses();
+      s.misses[f.tag] += cache.access_range(f.addr, f.bytes);
+      s.accesses[f.tag] += cache.accesses() - before;
+    }
+  });
+}
+
 void CacheSweep::feed(std::span<const SweepFetch> fetches) {
-  // Task t < groups: a line-size group; then one per side-by-side cache.
-  const size_t tasks = groups_.size() + side_.size();
-  const auto run = [&](size_t t) {
-    if (t < groups_.size()) return groups_[t]->feed(fetches);
-    SideCache& s = side_[t - groups_.size()];
-    s.cache.visit([&](auto& cache) {
-      for (const SweepFetch& f : fetches) {
-        if (f.bytes == 0) continue;
-        const uint64_t before = cache.accesses();
-        s.misses[f.tag] += cache.access_range(f.addr, f.bytes);
-        s.accesses[f.tag] += cache.accesses() - before;
-      }
-    });
-  };
-  const size_t workers = std::min<size_t>(threads_, tasks);
+  const size_t n = tasks();
+  const size_t workers = std::min<size_t>(threads_, n);
   if (workers <= 1) {
-    for (size_t t = 0; t < tasks; ++t) run(t);
+    for (size_t t = 0; t < n; ++t) feed_task(t, fetches);
     return;
   }
   // Worker w takes tasks w, w + workers, ...; worker 0 is this thread.
   std::vector<std::future<void>> others;
   for (size_t w = 1; w < workers; ++w)
     others.push_back(std::async(std::launch::async, [&, w] {
-      for (size_t t = w; t < tasks; t += workers) run(t);
+      for (size_t t = w; t < n; t += workers) feed_task(t, fetches);
     }));
-  for (size_t t = 0; t < tasks; t += workers) run(t);
+  for (size_t t = 0; t < n; t += workers) feed_task(t, fetches);
   for (auto& f : others) f.get();
 }
 
@@ -187,13 +241,9 @@ CacheSweep::PerTag CacheSweep::misses(size_t i) const {
   const Where& w = where_[i];
   if (w.side_cache >= 0) return side_[w.side_cache].misses;
   const LineGroup& g = *groups_[w.line_group];
-  // A one-set cache of capacity index k hits in regions 0..k; a set stack of `ways` ways hits at
-  // distances below `ways`.
-  PerTag hits = w.engine < 0 ? LineGroup::hits_below(g.full_hist, w.level + 1)
-                             : LineGroup::hits_below(g.set_hist[w.engine], w.level);
-  if (w.engine >= 0)
-    for (int e = 0; e <= w.engine; ++e)
-      for (int t = 0; t < kTags; ++t) hits[t] += g.mru_from[e][t];
+  // A one-set cache of capacity index k hits in regions 0..k.
+  const PerTag hits = w.engine < 0 ? LineGroup::hits_below(g.full_hist, w.level + 1)
+                                   : g.set_hits(static_cast<size_t>(w.engine), w.level);
   PerTag m{};
   for (int t = 0; t < kTags; ++t) m[t] = g.accesses[t] - g.repeats[t] - hits[t];
   return m;

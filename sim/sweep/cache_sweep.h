@@ -1,6 +1,7 @@
 // Many cache configurations over one fetch stream in one pass: the sweep's memory side.
-// LRU configurations of one line size share a stack-distance pass (SetLruStacks per set count,
-// FullyAssocLruStack for the one-set caches; the set counts of a line size may be split into
+// LRU configurations of one line size share a stack-distance pass (PairedSetStacks, or
+// SetLruStacks per set count when one is deeper than 8 ways, FullyAssocLruStack for the one-set
+// caches; the set counts of a line size may be split into
 // parts walked by different threads); FIFO, tree-PLRU and random are simulated side by
 // side, each in its own cache, over the same decoded stream. Every configuration counts exactly
 // what FetchCache counts for that cache: a fetch touching k lines is k accesses, in order.
@@ -34,12 +35,20 @@ class CacheSweep {
   // of each line size are split into up to `parts` groups of about equal work (one per thread
   // that will feed it; one part walks fewest stacks).
   CacheSweep(const std::vector<CacheParams>& configs, uint64_t image_bytes, unsigned parts = 1);
+  // The parts per line size that give `threads` workers a task each: the line sizes share out
+  // the threads (a split costs a second walk of the line stream).
+  static unsigned parts_for(const std::vector<CacheParams>& configs, unsigned threads);
   ~CacheSweep();
 
   // Feeds a chunk of fetches, in order, to every configuration. The line-size groups and the
   // side-by-side caches are independent: with threads() > 1 they share out the chunk's work
   // (the counts are the same for any thread count).
   void feed(std::span<const SweepFetch> fetches);
+  // The same work as independent tasks (a line-size group, or a side-by-side cache): feeding
+  // every task every chunk, each task its chunks in order, gives feed()'s counts, whichever
+  // tasks run at the same time (SweepPipeline).
+  size_t tasks() const { return groups_.size() + side_.size(); }
+  void feed_task(size_t task, std::span<const SweepFetch> fetches);
   void set_threads(unsigned n) { threads_ = n ? n : 1; }
   unsigned threads() const { return threads_; }
 

@@ -13,31 +13,35 @@ struct SweepBackend::Sink {
     const int tag = static_cast<int>(s);
     ++b.fetches_[tag];
     if (s == Stream::kNode) {
-      b.node_chunk_.push_back({addr, bytes, static_cast<uint32_t>(tag)});
-      if (b.node_chunk_.size() == kChunkFetches) b.hand_off();
+      b.chunk_[0].push_back({addr, bytes, static_cast<uint32_t>(tag)});
+      if (b.chunk_[0].size() == kChunkFetches) b.hand_off();
       return;
     }
     if (bytes != 0) b.bursts_[tag] += FetchCache::dram_bursts(addr, bytes);
     if (b.data_) {
-      b.data_chunk_.push_back({addr, bytes, static_cast<uint32_t>(tag)});
-      if (b.data_chunk_.size() == kChunkFetches) b.hand_off();
+      b.chunk_[1].push_back({addr, bytes, static_cast<uint32_t>(tag)});
+      if (b.chunk_[1].size() == kChunkFetches) b.hand_off();
     }
   }
 };
 
-SweepBackend::SweepBackend(const MemoryImage& image, CacheSweep& nodes, CacheSweep* data)
-    : image_(image), nodes_(nodes), data_(data) {
-  node_chunk_.reserve(kChunkFetches);
-  node_feeding_.reserve(kChunkFetches);
-  if (data_) {
-    data_chunk_.reserve(kChunkFetches);
-    data_feeding_.reserve(kChunkFetches);
-  }
+namespace {
+
+std::vector<CacheSweep*> sweeps(CacheSweep& nodes, CacheSweep* data) {
+  if (data) return {&nodes, data};
+  return {&nodes};
 }
 
-SweepBackend::~SweepBackend() {
-  if (in_flight_.valid()) in_flight_.wait();
+}  // namespace
+
+SweepBackend::SweepBackend(const MemoryImage& image, CacheSweep& nodes, CacheSweep* data,
+                           unsigned threads)
+    : image_(image), data_(data != nullptr), pipeline_(sweeps(nodes, data), threads, kChunksHeld),
+      chunk_(data ? 2 : 1) {
+  for (auto& list : chunk_) list.reserve(kChunkFetches);
 }
+
+SweepBackend::~SweepBackend() = default;
 
 void SweepBackend::trace(std::span<const RayRecord> rays, std::span<Hit> hits) {
   Sink sink{*this};
@@ -48,20 +52,13 @@ void SweepBackend::trace(std::span<const RayRecord> rays, std::span<Hit> hits) {
 }
 
 void SweepBackend::hand_off() {
-  if (in_flight_.valid()) in_flight_.get();
-  node_feeding_.swap(node_chunk_);
-  data_feeding_.swap(data_chunk_);
-  in_flight_ = std::async(std::launch::async, [this] {
-    nodes_.feed(node_feeding_);
-    node_feeding_.clear();
-    if (data_) data_->feed(data_feeding_);
-    data_feeding_.clear();
-  });
+  pipeline_.push(chunk_);
+  for (auto& list : chunk_) list.reserve(kChunkFetches);
 }
 
 void SweepBackend::flush() {
   hand_off();
-  in_flight_.get();
+  pipeline_.finish();
 }
 
 }  // namespace rtusim

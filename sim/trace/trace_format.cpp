@@ -149,16 +149,13 @@ TraceReader::TraceReader(const std::filesystem::path& path) : path_(path), name_
   if (ec) fail("cannot read trace file");
   // The buffer: the whole file when it is small, else one read's worth plus a din line.
   buf_.resize(static_cast<size_t>(std::min<uint64_t>(size, kReadBytes)) + kMaxDinLineBytes + 16);
-  file_left_ = size;
   uint8_t head[kBinFixedHeaderBytes];
   const size_t got = std::fread(head, 1, sizeof head, file_.get());
   if (got >= 8 && std::memcmp(head, kBinMagic, 8) == 0) {
     if (got < kBinFixedHeaderBytes)
       fail("truncated: " + std::to_string(got) + " bytes, shorter than the " +
            std::to_string(kBinFixedHeaderBytes) + "-byte bin header");
-    std::memcpy(buf_.data(), head, got);
-    end_ = got;
-    file_left_ = size - got;
+    std::memcpy(buf_.data(), head, got);  // parse_bin_header() reads it there, then resets
     parse_bin_header(size);
   } else if (got > 0 && (head[0] == '0' || head[0] == '1' || head[0] == '2' || head[0] == ' ' ||
                          head[0] == '\t' || head[0] == '\n' || head[0] == '\r')) {

@@ -8,6 +8,7 @@
 
 #include "cache/set_assoc_cache.h"
 #include "sweep/cache_sweep.h"
+#include "sweep/sweep_pipeline.h"
 
 namespace rtusim {
 namespace {
@@ -30,13 +31,16 @@ std::vector<SweepFetch> make_stream(uint64_t image_bytes, size_t n, uint32_t see
   return out;
 }
 
-TEST(CacheSweep, EqualsOneCachePerConfiguration) {
+// Every configuration of `policies` x lines 16, 32, 64 B x sizes 256 B .. 4 KB x `assocs` (0:
+// full) that fits, in one pass (parts and threads of several kinds), against one cache each.
+void expect_equal_to_one_cache_each(const std::vector<const char*>& policies,
+                                    const std::vector<uint32_t>& assocs) {
   const uint64_t image_bytes = 1 << 16;
   std::vector<CacheParams> configs;
-  for (const char* policy : {"lru", "fifo", "tree-plru", "random"})
+  for (const char* policy : policies)
     for (const uint32_t line : {16u, 32u, 64u})
       for (const uint64_t size : {256u, 1024u, 4096u})
-        for (const uint32_t assoc : {1u, 2u, 4u, 8u, 16u, 0u}) {  // 0: full
+        for (const uint32_t assoc : assocs) {
           CacheParams c;
           c.policy = policy;
           c.line_bytes = line;
@@ -50,9 +54,18 @@ TEST(CacheSweep, EqualsOneCachePerConfiguration) {
   CacheSweep sweep(configs, image_bytes, 3);  // set counts split in three parts per line
   sweep.set_threads(3);  // the groups and side caches shared out: the same counts
   CacheSweep whole(configs, image_bytes);  // one part per line: every set count in one walk
-  for (size_t at = 0; at < stream.size(); at += 777) {  // uneven chunks
-    sweep.feed(std::span(stream).subspan(at, std::min<size_t>(777, stream.size() - at)));
-    whole.feed(std::span(stream).subspan(at, std::min<size_t>(777, stream.size() - at)));
+  CacheSweep piped(configs, image_bytes, 2);  // fed by a pipeline: tasks run ahead of each other
+  {
+    SweepPipeline pipeline({&piped}, 3, 4);
+    SweepPipeline::Lists chunk(1);
+    for (size_t at = 0; at < stream.size(); at += 777) {  // uneven chunks
+      const auto part = std::span(stream).subspan(at, std::min<size_t>(777, stream.size() - at));
+      sweep.feed(part);
+      whole.feed(part);
+      chunk[0].assign(part.begin(), part.end());
+      pipeline.push(chunk);
+    }
+    pipeline.finish();
   }
 
   for (size_t i = 0; i < configs.size(); ++i) {
@@ -70,8 +83,21 @@ TEST(CacheSweep, EqualsOneCachePerConfiguration) {
     EXPECT_EQ(sweep.misses(i), miss);
     EXPECT_EQ(whole.accesses(i), acc);
     EXPECT_EQ(whole.misses(i), miss);
+    EXPECT_EQ(piped.accesses(i), acc);
+    EXPECT_EQ(piped.misses(i), miss);
     EXPECT_GT(miss[0] + miss[1] + miss[2], 0u);
   }
+}
+
+TEST(CacheSweep, EqualsOneCachePerConfiguration) {
+  // 16 ways: the set counts walked one SetLruStacks after the other.
+  expect_equal_to_one_cache_each({"lru", "fifo", "tree-plru", "random"}, {1, 2, 4, 8, 16, 0});
+}
+
+TEST(CacheSweep, ShallowSetCountsWalkedInPairs) {
+  // At most 8 ways: PairedSetStacks, with odd and even set-count counts per line and part.
+  expect_equal_to_one_cache_each({"lru"}, {1, 2, 4, 8, 0});
+  expect_equal_to_one_cache_each({"lru"}, {2, 8});
 }
 
 TEST(CacheSweep, OneSetStackAtManyCapacities) {
