@@ -99,15 +99,34 @@ namespace detail {
 
 // An interior node's step: the next node, and the far child pushed when the ray sees both.
 [[gnu::always_inline]] inline void interior_step(TraversalState& s, const NodeView& n) {
-  // Interior: which side the origin is on, and where the ray crosses the plane.
+  // Interior: which side the origin is on (a branch the predictor gets right, so the next
+  // node's fetch need not wait for the arithmetic below), and where the ray crosses the plane.
   const int a = n.axis;
   const float o = s.org[a], d = s.dir[a];
-  const bool below_first = o < n.split || (o == n.split && d <= 0.0f);
+  bool below_first = o < n.split;
+  if (o == n.split) [[unlikely]]
+    below_first = d <= 0.0f;
   const uint64_t near = below_first ? n.below_addr : n.above_addr;
   const uint64_t far = below_first ? n.above_addr : n.below_addr;
   const float t_plane = (n.split - o) * s.inv_dir[a];
+  // Decisions are conservative by the rounding error of t_plane (the operands' ulps, in t,
+  // plus a relative margin; |t_plane| <= (|split| + |o|) |1/d|, so one product bounds
+  // both): a ray that passes through a leaf's closed box, even at one corner point, visits
+  // it, so hits on shared edges and vertices never slip between leaves.
+  const float slack = (std::abs(n.split) + std::abs(o)) * s.abs_inv_dir[a] * 0x1p-19f;
+  if (t_plane - slack > s.t_max || t_plane <= 0.0f) {
+    s.node = near;  // the plane lies beyond the interval or behind the origin
+    return;
+  }
+  if (t_plane + slack < s.t_min) {
+    s.node = far;  // the ray enters the interval already past the plane
+    return;
+  }
+  // A ray parallel to the plane (or 0 * inf) lands here or goes near above, where the parallel
+  // case would have sent it too: t_plane is NaN (every comparison false), +inf (slack is +inf,
+  // so t_plane - slack is NaN) or -inf (t_plane <= 0, and the origin is off the plane).
   if (d == 0.0f || std::isnan(t_plane)) [[unlikely]] {
-    // Parallel to the plane (or 0 * inf): a ray in the plane sees both sides, else one.
+    // Parallel to the plane: a ray in the plane sees both sides, else one.
     if (o == n.split) {
       s.stack[s.sp++] = {n.above_addr, s.t_min, s.t_max};
       s.node = n.below_addr;
@@ -116,20 +135,9 @@ namespace detail {
     }
     return;
   }
-  // Decisions are conservative by the rounding error of t_plane (the operands' ulps, in t,
-  // plus a relative margin; |t_plane| <= (|split| + |o|) |1/d|, so one product bounds
-  // both): a ray that passes through a leaf's closed box, even at one corner point, visits
-  // it, so hits on shared edges and vertices never slip between leaves.
-  const float slack = (std::abs(n.split) + std::abs(o)) * s.abs_inv_dir[a] * 0x1p-19f;
-  if (t_plane - slack > s.t_max || t_plane <= 0.0f) {
-    s.node = near;  // the plane lies beyond the interval or behind the origin
-  } else if (t_plane + slack < s.t_min) {
-    s.node = far;  // the ray enters the interval already past the plane
-  } else {
-    s.stack[s.sp++] = {far, std::max(s.t_min, t_plane - slack), s.t_max};
-    s.node = near;
-    s.t_max = std::min(s.t_max, t_plane + slack);
-  }
+  s.stack[s.sp++] = {far, std::max(s.t_min, t_plane - slack), s.t_max};
+  s.node = near;
+  s.t_max = std::min(s.t_max, t_plane + slack);
 }
 
 // Fetches the ray's next node (reported to the sink) and decodes it from the image.
