@@ -9,6 +9,7 @@
 #include <glm/vec3.hpp>
 
 #include "geom/ray.h"
+#include "kdtree/kd_tree.h"
 #include "layout/memory_image.h"
 #include "layout/node_view.h"
 #include "traversal/watertight_triangle.h"
@@ -28,7 +29,11 @@ enum class StepKind : uint8_t {
 
 // The state of one ray in traversal: what a hardware unit keeps per ray in flight.
 struct TraversalState {
-  static constexpr int kStackDepth = 64;  // > the builder's depth limit
+  // Entries the stack can need: each entry is the far child of one interior node on the path
+  // to the node being visited, so there are never more than that node's depth, and no node is
+  // deeper than the builder's limit.
+  static constexpr int kStackDepth = 64;
+  static_assert(kStackDepth >= KdBuildParams::kMaxDepthLimit);
   struct Entry {
     uint64_t addr;
     float t_min, t_max;
@@ -42,7 +47,7 @@ struct TraversalState {
   WatertightRay wray;
   uint64_t node = 0;  // node to visit next
   float t_min = 0.0f, t_max = 0.0f;
-  Entry stack[kStackDepth + 1];  // + 1: an interior step writes its far entry before deciding
+  Entry stack[kStackDepth];
   int sp = 0;
   bool done = false;
   Hit hit;
