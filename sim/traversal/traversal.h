@@ -153,6 +153,16 @@ template <class Decoder, class Sink>
   return Decoder::decode(image, s.node);
 }
 
+// Floats stored at a byte address of the image, read one by one where they lie.
+struct PackedFloats {
+  const uint8_t* bytes;
+  float operator[](int i) const {
+    float f;
+    std::memcpy(&f, bytes + 4 * i, sizeof f);
+    return f;
+  }
+};
+
 // A leaf's step: fetches its list (if any) and triangles, tests each, then pops or finishes.
 template <class Sink>
 [[gnu::always_inline]] inline void leaf_step(TraversalState& s, const MemoryImage& image,
@@ -164,8 +174,7 @@ template <class Sink>
     if (n.prim_count > 1) std::memcpy(&tri, bytes + n.list_addr + 4ull * i, sizeof tri);
     const uint64_t ta = image.triangle_addr(tri);
     sink.fetch(Stream::kTriangle, ta, MemoryImage::kTriangleBytes);
-    float v[9];
-    std::memcpy(v, bytes + ta, sizeof v);
+    const PackedFloats v{bytes + ta};
     float t, bu, bv;
     const float t_limit = std::min(s.hit.t, s.ray.t_max);
     if (intersect_watertight(s.wray, v, t_limit, t, bu, bv)) {

@@ -79,8 +79,10 @@ constexpr float gamma_f(int n) {
 
 // Intersects the triangle whose vertices are v[0..2], v[3..5], v[6..8] (x, y, z each) over t in
 // (0, t_max). On a hit sets t and the barycentrics (u of the second vertex, v of the third)
-// and returns true. Both faces count.
-[[gnu::always_inline]] inline bool intersect_watertight(const WatertightRay& r, const float* v,
+// and returns true. Both faces count. `v` is anything indexable by 0..8 (a float array, or a
+// view that reads the floats where they lie, so only the coordinates used are loaded).
+template <class Vertices>
+[[gnu::always_inline]] inline bool intersect_watertight(const WatertightRay& r, const Vertices& v,
                                                         float t_max, float& t, float& bu,
                                                         float& bv) {
   // Vertices relative to the ray origin, permuted and sheared into ray space.
@@ -91,12 +93,13 @@ constexpr float gamma_f(int n) {
 
   // Scaled barycentrics; recomputed in double when one is exactly zero (edge hits).
   float U = Cx * By - Cy * Bx, V = Ax * Cy - Ay * Cx, W = Bx * Ay - By * Ax;
-  if (U == 0.0f || V == 0.0f || W == 0.0f) [[unlikely]] {
+  if ((U == 0.0f) | (V == 0.0f) | (W == 0.0f)) [[unlikely]] {
     U = static_cast<float>(double(Cx) * double(By) - double(Cy) * double(Bx));
     V = static_cast<float>(double(Ax) * double(Cy) - double(Ay) * double(Cx));
     W = static_cast<float>(double(Bx) * double(Ay) - double(By) * double(Ax));
   }
-  if ((U < 0.0f || V < 0.0f || W < 0.0f) && (U > 0.0f || V > 0.0f || W > 0.0f)) return false;
+  // Mixed signs: outside (one branch for all six tests; which way it goes is hard to predict).
+  if (((U < 0.0f) | (V < 0.0f) | (W < 0.0f)) & ((U > 0.0f) | (V > 0.0f) | (W > 0.0f))) return false;
   const float det = U + V + W;
   if (det == 0.0f) return false;  // ray in the triangle's plane, or a degenerate triangle
 
@@ -120,7 +123,9 @@ constexpr float gamma_f(int n) {
   const float delta_t =
       3.0f * (gamma_f(3) * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * std::abs(inv);
   if (std::abs(T * inv) <= kRefineAbove * delta_t) [[unlikely]] {
-    const double td = watertight_detail::refine_t(r, v);
+    float xyz[9];
+    for (int i = 0; i < 9; ++i) xyz[i] = v[i];
+    const double td = watertight_detail::refine_t(r, xyz);
     t = static_cast<float>(td);
     if (!(td > 0.0) || !(t > 0.0f) || !(t < t_max)) return false;
   } else {
