@@ -94,8 +94,9 @@ int main(int argc, char** argv) {
   if (scenes.empty()) scenes = {"sponza_dabrovic", "kitchen"};
   const int w = 512, h = 512, reps = 5;
 
-  std::printf("%-20s %9s %8s %9s %9s %10s %10s %7s\n", "scene", "tris", "build_s", "nodes",
-              "rss_MB", "kd_Mray/s", "emb_Mray/s", "ratio");
+  if (!verify)
+    std::printf("%-20s %9s %8s %9s %9s %10s %10s %7s\n", "scene", "tris", "build_s", "nodes",
+                "rss_MB", "kd_Mray/s", "emb_Mray/s", "ratio");
   for (const std::string& name : scenes) {
     const Scene scene = load_gltf(scenes_dir() + "/" + name + "/" + name + ".gltf");
     const double rss0 = max_rss_mb();
@@ -141,7 +142,9 @@ int main(int argc, char** argv) {
                               "kd-tree traversal", median(kd_rate) / 1e6,
                               "Embree rtcIntersect1", median(emb_rate) / 1e6, "Mrays/s");
   }
-  std::printf("(medians of %d runs; ratio = kd-tree rays/s / Embree rtcIntersect1 rays/s, 1 thread, "
-              "thread CPU time; rss_MB = growth of peak RSS during the builds)\n", reps);
+  if (!verify)
+    std::printf("(medians of %d runs; ratio = kd-tree rays/s / Embree rtcIntersect1 rays/s, 1 "
+                "thread, thread CPU time; rss_MB = growth of peak RSS during the builds)\n",
+                reps);
   return 0;
 }
