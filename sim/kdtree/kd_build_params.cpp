@@ -12,7 +12,8 @@ const FloatParam kIsectCost("kdtree.isect_cost", kDefaults.isect_cost, 1e-6, 1e6
                             "SAH cost of one ray-triangle test");
 const FloatParam kEmptyBonus("kdtree.empty_bonus", kDefaults.empty_bonus, 0.0, 0.99, "",
                              "cost discount for splits that cut off empty space");
-const IntParam kMaxDepth("kdtree.max_depth", kDefaults.max_depth, -1, 60, "levels",
+const IntParam kMaxDepth("kdtree.max_depth", kDefaults.max_depth, -1, KdBuildParams::kMaxDepthLimit,
+                         "levels",
                          "depth limit; -1: round(8 + 1.3 log2 N)");
 const IntParam kLeafPrims("kdtree.leaf_prims", kDefaults.leaf_prims, 1, 1 << 20, "triangles",
                           "make a leaf at or below this many triangles");

@@ -9,10 +9,11 @@ namespace rtusim {
 
 // Cost model and limits of the SAH build (pbrt's defaults).
 struct KdBuildParams {
+  static constexpr int kMaxDepthLimit = 60;  // the deepest tree max_depth may ask for
   float traversal_cost = 1.0f;
   float isect_cost = 80.0f;
   float empty_bonus = 0.5f;  // in [0, 1): cost discount for splits that cut off empty space
-  int max_depth = -1;        // -1: 8 + 1.3 log2(N), rounded
+  int max_depth = -1;        // -1: 8 + 1.3 log2(N), rounded (at most kMaxDepthLimit)
   int leaf_prims = 1;        // make a leaf when at most this many triangles remain
 };
 

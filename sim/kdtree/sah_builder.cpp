@@ -26,7 +26,8 @@ using kd_detail::SplitEvent;
 int kd_max_depth(uint64_t triangle_count, const KdBuildParams& params) {
   if (params.max_depth >= 0) return params.max_depth;
   if (triangle_count == 0) return 8;
-  return static_cast<int>(std::lround(8.0 + 1.3 * std::log2(static_cast<double>(triangle_count))));
+  return std::min(KdBuildParams::kMaxDepthLimit,
+                  static_cast<int>(std::lround(8.0 + 1.3 * std::log2(static_cast<double>(triangle_count)))));
 }
 
 namespace {

@@ -9,6 +9,7 @@
 #include <glm/vec3.hpp>
 
 #include "geom/ray.h"
+#include "kdtree/kd_tree.h"
 #include "layout/memory_image.h"
 #include "layout/node_view.h"
 #include "traversal/watertight_triangle.h"
@@ -28,7 +29,11 @@ enum class StepKind : uint8_t {
 
 // The state of one ray in traversal: what a hardware unit keeps per ray in flight.
 struct TraversalState {
-  static constexpr int kStackDepth = 64;  // > the builder's depth limit
+  // Entries the stack can need: each entry is the far child of one interior node on the path
+  // to the node being visited, so there are never more than that node's depth, and no node is
+  // deeper than the builder's limit.
+  static constexpr int kStackDepth = 64;
+  static_assert(kStackDepth >= KdBuildParams::kMaxDepthLimit);
   struct Entry {
     uint64_t addr;
     float t_min, t_max;
@@ -42,7 +47,7 @@ struct TraversalState {
   WatertightRay wray;
   uint64_t node = 0;  // node to visit next
   float t_min = 0.0f, t_max = 0.0f;
-  Entry stack[kStackDepth + 1];  // + 1: an interior step writes its far entry before deciding
+  Entry stack[kStackDepth];
   int sp = 0;
   bool done = false;
   Hit hit;
@@ -99,15 +104,34 @@ namespace detail {
 
 // An interior node's step: the next node, and the far child pushed when the ray sees both.
 [[gnu::always_inline]] inline void interior_step(TraversalState& s, const NodeView& n) {
-  // Interior: which side the origin is on, and where the ray crosses the plane.
+  // Interior: which side the origin is on (a branch the predictor gets right, so the next
+  // node's fetch need not wait for the arithmetic below), and where the ray crosses the plane.
   const int a = n.axis;
   const float o = s.org[a], d = s.dir[a];
-  const bool below_first = o < n.split || (o == n.split && d <= 0.0f);
+  bool below_first = o < n.split;
+  if (o == n.split) [[unlikely]]
+    below_first = d <= 0.0f;
   const uint64_t near = below_first ? n.below_addr : n.above_addr;
   const uint64_t far = below_first ? n.above_addr : n.below_addr;
   const float t_plane = (n.split - o) * s.inv_dir[a];
+  // Decisions are conservative by the rounding error of t_plane (the operands' ulps, in t,
+  // plus a relative margin; |t_plane| <= (|split| + |o|) |1/d|, so one product bounds
+  // both): a ray that passes through a leaf's closed box, even at one corner point, visits
+  // it, so hits on shared edges and vertices never slip between leaves.
+  const float slack = (std::abs(n.split) + std::abs(o)) * s.abs_inv_dir[a] * 0x1p-19f;
+  if (t_plane - slack > s.t_max || t_plane <= 0.0f) {
+    s.node = near;  // the plane lies beyond the interval or behind the origin
+    return;
+  }
+  if (t_plane + slack < s.t_min) {
+    s.node = far;  // the ray enters the interval already past the plane
+    return;
+  }
+  // A ray parallel to the plane (or 0 * inf) lands here or goes near above, where the parallel
+  // case would have sent it too: t_plane is NaN (every comparison false), +inf (slack is +inf,
+  // so t_plane - slack is NaN) or -inf (t_plane <= 0, and the origin is off the plane).
   if (d == 0.0f || std::isnan(t_plane)) [[unlikely]] {
-    // Parallel to the plane (or 0 * inf): a ray in the plane sees both sides, else one.
+    // Parallel to the plane: a ray in the plane sees both sides, else one.
     if (o == n.split) {
       s.stack[s.sp++] = {n.above_addr, s.t_min, s.t_max};
       s.node = n.below_addr;
@@ -116,20 +140,9 @@ namespace detail {
     }
     return;
   }
-  // Decisions are conservative by the rounding error of t_plane (the operands' ulps, in t,
-  // plus a relative margin; |t_plane| <= (|split| + |o|) |1/d|, so one product bounds
-  // both): a ray that passes through a leaf's closed box, even at one corner point, visits
-  // it, so hits on shared edges and vertices never slip between leaves.
-  const float slack = (std::abs(n.split) + std::abs(o)) * s.abs_inv_dir[a] * 0x1p-19f;
-  if (t_plane - slack > s.t_max || t_plane <= 0.0f) {
-    s.node = near;  // the plane lies beyond the interval or behind the origin
-  } else if (t_plane + slack < s.t_min) {
-    s.node = far;  // the ray enters the interval already past the plane
-  } else {
-    s.stack[s.sp++] = {far, std::max(s.t_min, t_plane - slack), s.t_max};
-    s.node = near;
-    s.t_max = std::min(s.t_max, t_plane + slack);
-  }
+  s.stack[s.sp++] = {far, std::max(s.t_min, t_plane - slack), s.t_max};
+  s.node = near;
+  s.t_max = std::min(s.t_max, t_plane + slack);
 }
 
 // Fetches the ray's next node (reported to the sink) and decodes it from the image.
@@ -139,6 +152,16 @@ template <class Decoder, class Sink>
   sink.fetch(Stream::kNode, s.node, image.node_bytes);
   return Decoder::decode(image, s.node);
 }
+
+// Floats stored at a byte address of the image, read one by one where they lie.
+struct PackedFloats {
+  const uint8_t* bytes;
+  float operator[](int i) const {
+    float f;
+    std::memcpy(&f, bytes + 4 * i, sizeof f);
+    return f;
+  }
+};
 
 // A leaf's step: fetches its list (if any) and triangles, tests each, then pops or finishes.
 template <class Sink>
@@ -151,8 +174,7 @@ template <class Sink>
     if (n.prim_count > 1) std::memcpy(&tri, bytes + n.list_addr + 4ull * i, sizeof tri);
     const uint64_t ta = image.triangle_addr(tri);
     sink.fetch(Stream::kTriangle, ta, MemoryImage::kTriangleBytes);
-    float v[9];
-    std::memcpy(v, bytes + ta, sizeof v);
+    const PackedFloats v{bytes + ta};
     float t, bu, bv;
     const float t_limit = std::min(s.hit.t, s.ray.t_max);
     if (intersect_watertight(s.wray, v, t_limit, t, bu, bv)) {

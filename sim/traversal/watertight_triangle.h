@@ -75,12 +75,17 @@ constexpr float gamma_f(int n) {
   return num / den;
 }
 
+// The largest of three, as std::max({a, b, c}) picks it (the first of equals), without a loop.
+inline float max3(float a, float b, float c) { return std::max(std::max(a, b), c); }
+
 }  // namespace watertight_detail
 
 // Intersects the triangle whose vertices are v[0..2], v[3..5], v[6..8] (x, y, z each) over t in
 // (0, t_max). On a hit sets t and the barycentrics (u of the second vertex, v of the third)
-// and returns true. Both faces count.
-[[gnu::always_inline]] inline bool intersect_watertight(const WatertightRay& r, const float* v,
+// and returns true. Both faces count. `v` is anything indexable by 0..8 (a float array, or a
+// view that reads the floats where they lie, so only the coordinates used are loaded).
+template <class Vertices>
+[[gnu::always_inline]] inline bool intersect_watertight(const WatertightRay& r, const Vertices& v,
                                                         float t_max, float& t, float& bu,
                                                         float& bv) {
   // Vertices relative to the ray origin, permuted and sheared into ray space.
@@ -91,12 +96,13 @@ constexpr float gamma_f(int n) {
 
   // Scaled barycentrics; recomputed in double when one is exactly zero (edge hits).
   float U = Cx * By - Cy * Bx, V = Ax * Cy - Ay * Cx, W = Bx * Ay - By * Ax;
-  if (U == 0.0f || V == 0.0f || W == 0.0f) [[unlikely]] {
+  if ((U == 0.0f) | (V == 0.0f) | (W == 0.0f)) [[unlikely]] {
     U = static_cast<float>(double(Cx) * double(By) - double(Cy) * double(Bx));
     V = static_cast<float>(double(Ax) * double(Cy) - double(Ay) * double(Cx));
     W = static_cast<float>(double(Bx) * double(Ay) - double(By) * double(Ax));
   }
-  if ((U < 0.0f || V < 0.0f || W < 0.0f) && (U > 0.0f || V > 0.0f || W > 0.0f)) return false;
+  // Mixed signs: outside (one branch for all six tests; which way it goes is hard to predict).
+  if (((U < 0.0f) | (V < 0.0f) | (W < 0.0f)) & ((U > 0.0f) | (V > 0.0f) | (W > 0.0f))) return false;
   const float det = U + V + W;
   if (det == 0.0f) return false;  // ray in the triangle's plane, or a degenerate triangle
 
@@ -109,26 +115,31 @@ constexpr float gamma_f(int n) {
   // t ~ 0 from an origin on the plane may be spurious, or a genuine near hit may come out
   // negative: t is recomputed in double instead.
   using watertight_detail::gamma_f;
+  using watertight_detail::max3;
   constexpr float kRefineAbove = 1024.0f;
-  const float max_zt = std::max({std::abs(r.sz * Az), std::abs(r.sz * Bz), std::abs(r.sz * Cz)});
-  const float max_xt = std::max({std::abs(Ax), std::abs(Bx), std::abs(Cx)});
-  const float max_yt = std::max({std::abs(Ay), std::abs(By), std::abs(Cy)});
+  const float max_zt = max3(std::abs(r.sz * Az), std::abs(r.sz * Bz), std::abs(r.sz * Cz));
+  const float max_xt = max3(std::abs(Ax), std::abs(Bx), std::abs(Cx));
+  const float max_yt = max3(std::abs(Ay), std::abs(By), std::abs(Cy));
   const float delta_x = gamma_f(5) * (max_xt + max_zt), delta_y = gamma_f(5) * (max_yt + max_zt);
   const float delta_z = gamma_f(3) * max_zt;
   const float delta_e = 2.0f * (gamma_f(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
-  const float max_e = std::max({std::abs(U), std::abs(V), std::abs(W)});
+  const float max_e = max3(std::abs(U), std::abs(V), std::abs(W));
   const float delta_t =
       3.0f * (gamma_f(3) * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * std::abs(inv);
   if (std::abs(T * inv) <= kRefineAbove * delta_t) [[unlikely]] {
-    const double td = watertight_detail::refine_t(r, v);
+    float xyz[9];
+    for (int i = 0; i < 9; ++i) xyz[i] = v[i];
+    const double td = watertight_detail::refine_t(r, xyz);
     t = static_cast<float>(td);
     if (!(td > 0.0) || !(t > 0.0f) || !(t < t_max)) return false;
   } else {
-    // Compared before the division.
-    if (det > 0.0f ? (T <= 0.0f || T >= t_max * det) : (T >= 0.0f || T <= t_max * det))
-      return false;
+    // T against (0, t_max) scaled by det, then t itself: one branch for all of it.
+    const float T_limit = t_max * det;
+    const bool positive = det > 0.0f, negative = !positive;
+    const bool outside = (positive & ((T <= 0.0f) | (T >= T_limit))) |
+                         (negative & ((T >= 0.0f) | (T <= T_limit)));
     t = T * inv;
-    if (!(t > 0.0f) || !(t < t_max)) return false;
+    if (outside | !(t > 0.0f) | !(t < t_max)) return false;
   }
   bu = V * inv;
   bv = W * inv;
