@@ -57,6 +57,12 @@ class TraversalUnit : public sc_core::sc_module {
 
   // A memory component whose own activity bounds the unit's run-ahead.
   void add_horizon(const MemoryHorizon* h) { horizons_.push_back(h); }
+  // The targets bound to node_socket / data_socket, if they take reads by direct call
+  // (nullptr: through the socket).
+  void set_direct_targets(DirectTarget* node, DirectTarget* data) {
+    node_direct_ = node;
+    data_direct_ = data;
+  }
 
   uint64_t steps() const { return steps_; }
   void write_stats(Stats& stats) const;  // unit.*
@@ -121,6 +127,8 @@ class TraversalUnit : public sc_core::sc_module {
   const MemoryImage& image_;
   HostInterface& host_;
   std::vector<const MemoryHorizon*> horizons_;
+  DirectTarget* node_direct_ = nullptr;
+  DirectTarget* data_direct_ = nullptr;
   std::vector<CallDriven*> due_;  // scratch: components acted for at one horizon
   std::vector<Slot> slots_;
   EventWheel events_;
