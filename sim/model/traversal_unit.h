@@ -20,7 +20,9 @@
 // component can be driven by call (the C++ L1s and the DRAM: MemoryHorizon::call_driven()), the
 // unit does not wait for the kernel at a horizon but makes the components act there itself,
 // and the kernel only catches up at the end of the batch: no context switch per DRAM decision.
-// With the RTL L1, which runs on the kernel's clock, the kernel gets there.
+// With the RTL L1, which runs on the kernel's clock, the kernel gets there. Reads to a C++ L1 go
+// by direct call in picoseconds (DirectTarget, mem_protocol.h), not through the socket: the same
+// decisions without sc_time arithmetic per request.
 #pragma once
 #include <cstdint>
 #include <deque>
@@ -83,9 +85,22 @@ class TraversalUnit : public sc_core::sc_module {
     uint64_t addr;
     uint32_t bytes;
   };
+  // The fetches of one step, in issue order; the storage stays between steps, so recording one
+  // is a compare and a store (no vector size/capacity bookkeeping per fetch).
+  struct FetchList {
+    std::vector<Fetch> buf;
+    size_t n = 0;
+    void clear() { n = 0; }
+    size_t size() const { return n; }
+    const Fetch& operator[](size_t i) const { return buf[i]; }
+    void push(const Fetch& f) {
+      if (n == buf.size()) [[unlikely]] buf.resize(2 * n + 8);
+      buf[n++] = f;
+    }
+  };
   struct Recorder {
-    std::vector<Fetch>* out;
-    void fetch(Stream s, uint64_t addr, uint32_t bytes) { out->push_back({s, addr, bytes}); }
+    FetchList* out;
+    void fetch(Stream s, uint64_t addr, uint32_t bytes) { out->push({s, addr, bytes}); }
   };
   struct Slot {
     bool active = false;
@@ -93,7 +108,7 @@ class TraversalUnit : public sc_core::sc_module {
     Phase phase = Phase::kStep;
     StepKind kind = StepKind::kDone;
     TraversalState st;
-    std::vector<Fetch> fetches;  // of the current step, in issue order
+    FetchList fetches;  // of the current step
     uint32_t pending = 0;        // line requests outstanding
     uint64_t ready = 0;          // latest data cycle among them
     bool issuing = false;
