@@ -42,39 +42,56 @@ L1Cache::L1Cache(const sc_core::sc_module_name& name, const L1Params& p)
 tlm::tlm_sync_enum L1Cache::nb_transport_fw(tlm::tlm_generic_payload& trans,
                                             tlm::tlm_phase& phase, sc_core::sc_time& delay) {
   if (phase == tlm::END_RESP) return tlm::TLM_COMPLETED;
-  const uint64_t addr = trans.get_address();
-  const uint32_t len = trans.get_data_length();
-  if (phase != tlm::BEGIN_REQ || trans.get_command() != tlm::TLM_READ_COMMAND || len == 0 ||
-      (addr >> offset_bits_) != ((addr + len - 1) >> offset_bits_)) {
-    trans.set_response_status(tlm::TLM_GENERIC_ERROR_RESPONSE);  // one line per request
+  if (phase != tlm::BEGIN_REQ) {
+    trans.set_response_status(tlm::TLM_GENERIC_ERROR_RESPONSE);
     return tlm::TLM_COMPLETED;
   }
   const uint64_t now = now_ps();
-  const uint64_t t = (now + delay.value() + period_ps_ - 1) / period_ps_;
-  phase = tlm::END_REQ;
+  uint64_t done = 0;
+  if (!read_at(trans, now + delay.value(), &done)) {
+    phase = tlm::END_REQ;
+    return tlm::TLM_UPDATED;
+  }
+  if (trans.get_response_status() == tlm::TLM_OK_RESPONSE) {
+    phase = tlm::END_REQ;
+    delay = ps(done - now);
+  }
+  return tlm::TLM_COMPLETED;
+}
+
+bool L1Cache::read_at(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t* done_ps) {
+  const uint64_t addr = trans.get_address();
+  const uint32_t len = trans.get_data_length();
+  if (trans.get_command() != tlm::TLM_READ_COMMAND || len == 0 ||
+      (addr >> offset_bits_) != ((addr + len - 1) >> offset_bits_)) {
+    trans.set_response_status(tlm::TLM_GENERIC_ERROR_RESPONSE);  // one line per request
+    *done_ps = at_ps;
+    return true;
+  }
+  const uint64_t t = (at_ps + period_ps_ - 1) / period_ps_;
   if (!queue_.empty()) advance();  // the downstream may have moved on
   const uint64_t c = std::max(t, next_lookup_);
   if (!queue_.empty() || c * period_ps_ > decidable_ps()) {
     queue_.push_back({&trans, t});  // behind the backlog: the wake-up is set
     schedule_wake();
-    return tlm::TLM_UPDATED;
+    return false;
   }
   // Decidable now: a hit or a merge with a known fill completes in the return path.
   uint64_t answer = 0;
   switch (lookup({&trans, t}, c, &answer)) {
     case Outcome::kAnswered:
       trans.set_response_status(tlm::TLM_OK_RESPONSE);
-      delay = ps(answer * period_ps_ - now);
-      return tlm::TLM_COMPLETED;
+      *done_ps = answer * period_ps_;
+      return true;
     case Outcome::kWaiting:
-      return tlm::TLM_UPDATED;
+      return false;
     case Outcome::kBlocked:
       // Cannot go on before the first fill, which is after t: decided later.
       queue_.push_back({&trans, t, c});
       schedule_wake();
-      return tlm::TLM_UPDATED;
+      return false;
   }
-  return tlm::TLM_UPDATED;
+  return false;
 }
 
 void L1Cache::respond(tlm::tlm_generic_payload& trans, uint64_t cycle) {

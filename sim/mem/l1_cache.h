@@ -55,7 +55,7 @@
 namespace rtusim {
 
 class L1Cache : public sc_core::sc_module, public NodeL1, public MemoryHorizon,
-                public CallDriven {
+                public CallDriven, public DirectTarget {
  public:
   tlm_utils::simple_target_socket<L1Cache> target_socket;        // from the unit
   tlm_utils::simple_initiator_socket<L1Cache> initiator_socket;  // to DRAM
@@ -89,6 +89,8 @@ class L1Cache : public sc_core::sc_module, public NodeL1, public MemoryHorizon,
     if (!on) schedule_wake();  // its process takes over from here
   }
   void act_at_horizon(uint64_t) override { advance(); }
+  // The upstream request by direct call (what nb_transport_fw does, in picoseconds).
+  bool read_at(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t* done_ps) override;
   const SetAssocCache& tags() const { return tags_; }
   const L1Params& params() const { return p_; }
 

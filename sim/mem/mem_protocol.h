@@ -49,6 +49,17 @@ class CallDriven {
   virtual void act_at_horizon(uint64_t at_ps) = 0;
 };
 
+// A target that also takes reads by direct call, in integer picoseconds: what nb_transport_fw
+// does with BEGIN_REQ and an annotated delay, without sc_time arithmetic or the socket. Only
+// for an initiator bound to this target's socket (later answers still come as BEGIN_RESP on it).
+class DirectTarget {
+ public:
+  virtual ~DirectTarget() = default;
+  // A read at absolute time `at_ps` (at or after the kernel's time). True: completed at once
+  // (the response status set; *done_ps its time); false: answered later by BEGIN_RESP.
+  virtual bool read_at(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t* done_ps) = 0;
+};
+
 class MemoryHorizon {
  public:
   static constexpr uint64_t kNever = std::numeric_limits<uint64_t>::max();

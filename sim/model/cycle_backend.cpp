@@ -41,6 +41,8 @@ struct CycleBackend::Top : sc_core::sc_module {
     } else {
       unit.data_socket.bind(dram.target_socket);
     }
+    // The C++ caches also take the unit's reads by direct call (no sc_time per request).
+    unit.set_direct_targets(dynamic_cast<DirectTarget*>(node_l1.get()), data_cache.get());
   }
 };
 

@@ -291,13 +291,14 @@ void TraversalUnit::issue(uint32_t slot, size_t first, size_t last, uint64_t t) 
   s.pending = 0;
   s.ready = t;
   s.issuing = true;
-  const sc_core::sc_time offset = ps(t * period_ - now_ps());
+  const uint64_t at_ps = t * period_;
   for (size_t i = first; i < last; ++i) {
     const Fetch& f = s.fetches[i];
     if (f.bytes == 0) continue;
     const bool node = f.stream == Stream::kNode;
     const uint64_t line = node ? p_.node_line_bytes : p_.data_line_bytes;
     auto& socket = node ? node_socket : data_socket;
+    DirectTarget* direct = node ? node_direct_ : data_direct_;
     for (uint64_t a = f.addr; a < f.addr + f.bytes;) {
       const uint64_t end = std::min<uint64_t>(f.addr + f.bytes, (a / line + 1) * line);
       UnitPayload* p;
@@ -316,10 +317,15 @@ void TraversalUnit::issue(uint32_t slot, size_t first, size_t last, uint64_t t) 
       // path straight to DRAM reads whole bursts (the functional tier's accounting).
       init_read(*p, a / line * line, static_cast<uint32_t>(line));
       ++s.pending;
-      tlm::tlm_phase phase = tlm::BEGIN_REQ;
-      sc_core::sc_time delay = offset;
-      if (socket->nb_transport_fw(*p, phase, delay) == tlm::TLM_COMPLETED)
-        arrived(*p, now_ps() + delay.value());
+      if (direct) {
+        uint64_t done_ps = 0;
+        if (direct->read_at(*p, at_ps, &done_ps)) arrived(*p, done_ps);
+      } else {
+        tlm::tlm_phase phase = tlm::BEGIN_REQ;
+        sc_core::sc_time delay = ps(at_ps - now_ps());
+        if (socket->nb_transport_fw(*p, phase, delay) == tlm::TLM_COMPLETED)
+          arrived(*p, now_ps() + delay.value());
+      }
       a = end;
     }
   }

@@ -20,7 +20,9 @@
 // component can be driven by call (the C++ L1s and the DRAM: MemoryHorizon::call_driven()), the
 // unit does not wait for the kernel at a horizon but makes the components act there itself,
 // and the kernel only catches up at the end of the batch: no context switch per DRAM decision.
-// With the RTL L1, which runs on the kernel's clock, the kernel gets there.
+// With the RTL L1, which runs on the kernel's clock, the kernel gets there. Reads to a C++ L1 go
+// by direct call in picoseconds (DirectTarget, mem_protocol.h), not through the socket: the same
+// decisions without sc_time arithmetic per request.
 #pragma once
 #include <cstdint>
 #include <deque>
@@ -58,6 +60,12 @@ class TraversalUnit : public sc_core::sc_module {
 
   // A memory component whose own activity bounds the unit's run-ahead.
   void add_horizon(const MemoryHorizon* h) { horizons_.push_back(h); }
+  // The targets bound to node_socket / data_socket, if they take reads by direct call
+  // (nullptr: through the socket).
+  void set_direct_targets(DirectTarget* node, DirectTarget* data) {
+    node_direct_ = node;
+    data_direct_ = data;
+  }
 
   uint64_t steps() const { return steps_; }
   void write_stats(Stats& stats) const;  // unit.*
@@ -115,6 +123,8 @@ class TraversalUnit : public sc_core::sc_module {
   const MemoryImage& image_;
   HostInterface& host_;
   std::vector<const MemoryHorizon*> horizons_;
+  DirectTarget* node_direct_ = nullptr;
+  DirectTarget* data_direct_ = nullptr;
   std::vector<CallDriven*> due_;  // scratch: components acted for at one horizon
   std::vector<Slot> slots_;
   EventWheel events_;
