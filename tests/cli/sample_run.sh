@@ -89,8 +89,29 @@ cut_cycle = s("call32")["sim.cycles"] / s("cfull32")["sim.cycles"] - 1
 assert cut_timed > 0.1 and abs(cut_timed - cut_cycle) < 0.03, (cut_timed, cut_cycle)
 assert 0.5 < part["estimate.cycles"] / full["estimate.cycles"] < 2.0
 PY
+# The ratio estimator (wavefront order): node bytes per ray of the drawn units x the frame's rays;
+# rays.* exact; the paired difference is the difference of the two estimates (same units, same
+# rays); every unit gives the full run's figures.
+"$rtusim" run "$src/configs/default.toml" "${common[@]}" --set sample.rate=0.5 --set tracer.ray_order=wavefront \
+  --set sample.estimator=ratio --out "$tmp/wfr" > /dev/null
+"$rtusim" run "$src/configs/default.toml" "${common[@]}" --set sample.rate=0.9999 --set tracer.ray_order=wavefront \
+  --set sample.estimator=ratio --out "$tmp/wfrall" > /dev/null
+python3 - "$tmp/wfr/stats.json" "$tmp/wfrall/stats.json" "$tmp/wffull/stats.json" "$tmp/wf/stats.json" <<'PY'
+import json, sys
+r, rall, full, mean = (json.load(open(p)) for p in sys.argv[1:5])
+assert r["sample.estimator"] == "ratio" and mean["sample.estimator"] == "mean"
+assert r["rays.total"] == full["rays.total"]
+d = "sample.diff.odfl-dfl.dram.bytes.nodes"
+assert abs(r[d] - (r["layout.odfl.dram.bytes.nodes"] - r["layout.dfl.dram.bytes.nodes"])) < 1e-6 * r["dram.bytes.nodes"]
+for k in ["dram.bytes.nodes", "layout.odfl.dram.bytes.nodes", d]:
+    assert r[k + ".ci95_low"] <= r[k] <= r[k + ".ci95_high"], k
+assert r["dram.bytes.nodes"] != mean["dram.bytes.nodes"]
+for k in ["dram.bytes.nodes", "l1.misses", "layout.odfl.dram.bytes.nodes"]:
+    assert abs(rall[k] - full[k]) <= 1e-9 * full[k], (k, rall[k], full[k])
+PY
 # Bad sample keys: exit 2, one line naming the key, no output.
-for bad in "sample.method=pixels" "sample.rate=0" "sample.warmup=detailed" "sample.target_key=tree.nodes"; do
+for bad in "sample.method=pixels" "sample.rate=0" "sample.warmup=detailed" "sample.target_key=tree.nodes" \
+           "sample.estimator=median" "sample.estimator=ratio"; do
   set +e
   "$rtusim" run "$src/configs/default.toml" --set "$bad" --out "$tmp/bad" > /dev/null 2> "$tmp/bad.err"
   rc=$?
