@@ -132,7 +132,7 @@ RunConfig load_run_config(const std::string& path, const std::vector<std::string
     r.fail(e);
   }
 
-  c.sample = read_sample_params(r);
+  c.sample = read_sample_params(r, c.tracer.order);
 
   r.reject_unknown_keys();
   c.effective = r.effective();

@@ -1,7 +1,8 @@
 // Whole-frame totals from sampled units, with 95% confidence intervals: the stratified
 // expansion estimator T = sum_h N_h mean_h with variance sum_h N_h^2 (1 - n_h/N_h) s_h^2 / n_h
-// (finite-population corrected), and Student's t with n - H degrees of freedom. A paired
-// difference is the same estimator over per-unit differences.
+// (finite-population corrected), and Student's t with n - H degrees of freedom; or the ratio
+// estimator X R with R = T_y / T_x when the frame's total X of an auxiliary figure is known. A
+// paired difference is the same estimator over per-unit differences.
 #pragma once
 #include <string>
 #include <vector>
@@ -29,6 +30,13 @@ class Estimator {
 
   // `values[i]` is the figure measured on a unit of stratum `strata[i]`.
   Estimate total(const std::vector<double>& values, const std::vector<int>& strata) const;
+
+  // The combined ratio estimator: `x_total` (known for the whole frame) x the ratio of the
+  // estimated totals of `values` and `x` (x[i]: the auxiliary figure of unit i, e.g. its rays),
+  // with the usual linearized variance, total()'s over the residuals values[i] - R x[i],
+  // scaled by (X / X_hat)^2.
+  Estimate ratio(const std::vector<double>& values, const std::vector<double>& x, double x_total,
+                 const std::vector<int>& strata) const;
 
  private:
   std::vector<double> stratum_units_;

@@ -11,7 +11,7 @@ namespace rtusim {
 GenerationSampler::GenerationSampler(TraceBackend& plain, TierRun& tier,
                                      std::vector<int32_t> unit_of_pixel, int units, int warm_rays)
     : plain_(plain), tier_(tier), unit_of_pixel_(std::move(unit_of_pixel)),
-      warm_rays_(std::max(0, warm_rays)), values_(units) {}
+      warm_rays_(std::max(0, warm_rays)), values_(units), rays_(units, 0.0) {}
 
 void GenerationSampler::send(std::span<const RayRecord> rays, std::span<const Hit> expected) {
   scratch_.assign(rays.size(), Hit{});
@@ -65,6 +65,7 @@ void GenerationSampler::trace(std::span<const RayRecord> rays, std::span<Hit> hi
     for (const auto& [key, value] : after.values())
       if (SampledFrame::is_extensive(key) && value.is_number())
         v[key] += value.get<double>() - before.at(key).get<double>();
+    rays_[unit] += double(end - i);
     rays_measured_ += end - i;
     i = end;
   }

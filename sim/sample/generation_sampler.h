@@ -32,6 +32,8 @@ class GenerationSampler final : public TraceBackend {
 
   // Each drawn unit's extensive figures (key -> sum over its runs), and rays.* it traced.
   const std::vector<std::map<std::string, double>>& unit_values() const { return values_; }
+  // Each drawn unit's rays (over all generations).
+  const std::vector<double>& unit_rays() const { return rays_; }
   uint64_t rays_measured() const { return rays_measured_; }
   uint64_t rays_warmed() const { return rays_warmed_; }
 
@@ -47,6 +49,7 @@ class GenerationSampler final : public TraceBackend {
   std::vector<int32_t> unit_of_pixel_;
   int warm_rays_;
   std::vector<std::map<std::string, double>> values_;
+  std::vector<double> rays_;
   uint64_t rays_measured_ = 0;
   uint64_t rays_warmed_ = 0;
   uint64_t batch_start_ = 0;   // sequence index of the current batch's first ray

@@ -39,6 +39,10 @@ const IntParam kUnitPixels("sample.unit_pixels", kSample.unit_pixels, 1, 1 << 20
 const IntParam kStrata("sample.strata", kSample.strata, 1, 256, "",
                        "side of the strata grid (strata x strata blocks); 4 by default with "
                        "sample.method = stratified");
+const StringParam kEstimator("sample.estimator", kSample.estimator_name, {"mean", "ratio"}, "",
+                              "mean: the units' mean figure x the frame's units; ratio: the "
+                              "units' figure per ray x the frame's rays, narrower where cost "
+                              "follows rays (needs tracer.ray_order = wavefront)");
 const IntParam kMinUnits("sample.min_units", kSample.min_units, 2, 1 << 24, "units",
                          "fewer units than this: the CIs are flagged as not valid");
 
@@ -47,7 +51,7 @@ constexpr int kStratifiedStrata = 4;
 
 }  // namespace
 
-SampleParams read_sample_params(ConfigReader& r) {
+SampleParams read_sample_params(ConfigReader& r, RayOrder order) {
   SampleParams s;
   s.rate = kRate.read(r);
   s.method_name = kMethod.read(r);
@@ -71,6 +75,13 @@ SampleParams read_sample_params(ConfigReader& r) {
   s.strata = static_cast<int>(
       kStrata.read(r, s.method == SampleMethod::kStratified ? kStratifiedStrata : kSample.strata));
   s.min_units = static_cast<int>(kMinUnits.read(r));
+  s.estimator_name = kEstimator.read(r);
+  s.estimator = s.estimator_name == "ratio" ? SampleEstimator::kRatio : SampleEstimator::kMean;
+  // Only the wavefront order traces the whole frame, so only there are the frame's rays known.
+  if (s.estimator == SampleEstimator::kRatio && order != RayOrder::kWavefront)
+    r.fail(KeyError({kEstimator.key(), "tracer.ray_order"},
+                    "\"ratio\" needs tracer.ray_order = \"wavefront\" (in recursive order the "
+                    "frame's rays are not traced, so not known)"));
   s.origin = r.origin();
   return s;
 }

@@ -4,6 +4,8 @@
 #include <cstdint>
 #include <string>
 
+#include "tracer/tracer_params.h"
+
 namespace rtusim {
 
 class ConfigReader;
@@ -13,6 +15,12 @@ enum class SampleMethod {
   kStratified,  // the same, drawn in proportion from a sample.strata x sample.strata grid of blocks
   kTiles,       // units of sample.unit_pixels adjacent pixels of one row (the scan order's
                 // coherence), drawn in proportion from the same grid's blocks
+};
+
+enum class SampleEstimator {
+  kMean,   // expansion: the units' mean figure x the frame's units
+  kRatio,  // ratio: the units' figure per ray x the frame's rays (wavefront order, where the
+           // whole frame is traced and its rays are known)
 };
 
 enum class SampleWarmup {
@@ -38,12 +46,15 @@ struct SampleParams {
   int strata = 1;           // the strata grid's side (strata x strata blocks); the stratified
                             // method's default is 4
   int min_units = 30;       // fewer units than this: the CIs are flagged as not valid
+  SampleEstimator estimator = SampleEstimator::kMean;
+  std::string estimator_name = "mean";
   std::string origin;       // the config file, for errors found while running
 
   bool active() const { return rate < 1.0 || target_ci > 0.0; }
 };
 
-// Reads sample.* (every key, so they are validated and in the effective config).
-SampleParams read_sample_params(ConfigReader& r);
+// Reads sample.* (every key, so they are validated and in the effective config); `order` is
+// the tracer's (sample.estimator = "ratio" needs the wavefront order).
+SampleParams read_sample_params(ConfigReader& r, RayOrder order);
 
 }  // namespace rtusim

@@ -19,7 +19,7 @@ const char* const kRayKeys[kRayKinds] = {"rays.primary", "rays.shadow", "rays.re
 
 // Figures whose layout differences get a paired CI.
 const char* const kPairedKeys[] = {"dram.bytes.nodes", "dram.bytes.total", "l1.misses",
-                                   "sim.cycles"};
+                                   "sim.cycles", "estimate.cycles"};
 
 }  // namespace
 
@@ -27,7 +27,12 @@ bool SampledFrame::is_extensive(const std::string& key) {
   if (key.rfind("rays.", 0) == 0 || key.rfind("dram.bytes.", 0) == 0 ||
       key.rfind("fetch.", 0) == 0 || key.rfind("traversal.", 0) == 0 || key == "sim.cycles")
     return true;
-  if (key.rfind("l1.", 0) == 0 || key.rfind("dcache.", 0) == 0)
+  // The timed interleaved mode's estimate.* (TimedInterleaver): its clock runs on from one
+  // trace() to the next and its miss and stall counts only grow, so a unit's change of each is
+  // its share of the frame's figure, as for sim.cycles.
+  if (key == "estimate.cycles") return true;
+  if (key.rfind("l1.", 0) == 0 || key.rfind("dcache.", 0) == 0 ||
+      key.rfind("estimate.l1.", 0) == 0)
     for (const char* tail : {".accesses", ".hits", ".misses", ".primary_misses", ".merged_misses",
                              ".mshr_stall_cycles"})
       if (key.ends_with(tail)) return true;
@@ -67,8 +72,10 @@ void SampledFrame::trace_generations(const Scene& scene, const TracerParams& tra
   // per pixel, so every unit has every key).
   for (size_t k = 0; k < units.size(); ++k) {
     for (const auto& [key, value] : sampler.unit_values()[k]) sample.values[key].push_back(value);
+    sample.unit_rays.push_back(sampler.unit_rays()[k]);
     if (&sample == &layouts_.front()) strata_taken_.push_back(plan_.stratum[units[k]]);
   }
+  sample.frame_rays = double(frame.rays_total());
   sample.rays_simulated += sampler.rays_measured();
   sample.rays_warmed += sampler.rays_warmed();
 }
@@ -132,7 +139,10 @@ void SampledFrame::trace_units(WhittedTracer& tracer, const PinholeCamera& camer
   }
 }
 
-Estimate SampledFrame::estimate(const std::vector<double>& values) const {
+Estimate SampledFrame::estimate(const LayoutSample& sample,
+                                const std::vector<double>& values) const {
+  if (params_.estimator == SampleEstimator::kRatio)
+    return estimator_.ratio(values, sample.unit_rays, sample.frame_rays, strata_taken_);
   return estimator_.total(values, strata_taken_);
 }
 
@@ -140,7 +150,7 @@ std::pair<double, std::string> SampledFrame::widest_ci(const LayoutSample& sampl
   std::pair<double, std::string> widest{0.0, ""};
   for (const auto& [key, values] : sample.values) {
     if (!params_.target_key.empty() && key != params_.target_key) continue;
-    const double w = estimate(values).relative_half_width();
+    const double w = estimate(sample, values).relative_half_width();
     if (w > widest.first || widest.second.empty()) widest = {w, key};
   }
   return widest;
@@ -151,7 +161,7 @@ FrameResult SampledFrame::render(const Scene& scene, const TracerParams& tracer_
                                  const MemoryImage& image, const std::string& layout,
                                  double& seconds) {
   const auto t0 = std::chrono::steady_clock::now();
-  layouts_.push_back(LayoutSample{layout, {}, 0, 0, 0.0});
+  layouts_.push_back(LayoutSample{.layout = layout});
   LayoutSample& sample = layouts_.back();
   WhittedTracer tracer(scene, tracer_params, tier.backend());
   FrameResult frame = tracer.begin_frame(camera, width_, height_);
@@ -203,7 +213,7 @@ FrameResult SampledFrame::render(const Scene& scene, const TracerParams& tracer_
 void SampledFrame::finish_layout(FrameResult& frame, Stats& stats) const {
   const LayoutSample& sample = layouts_.back();
   for (const auto& [key, values] : sample.values) {
-    const Estimate e = estimate(values);
+    const Estimate e = estimate(sample, values);
     stats.set(key, e.value);
     stats.set(key + ".ci95_low", e.ci_low());
     stats.set(key + ".ci95_high", e.ci_high());
@@ -221,7 +231,7 @@ void SampledFrame::finish_layout(FrameResult& frame, Stats& stats) const {
   } else {
     for (int k = 0; k < kRayKinds; ++k)
       frame.rays_by_kind[k] = static_cast<uint64_t>(
-          std::llround(estimate(sample.values.at(kRayKeys[k])).value));
+          std::llround(estimate(sample, sample.values.at(kRayKeys[k])).value));
   }
   const auto [w, key] = widest_ci(sample);
   stats.set("sample.achieved_ci", w);
@@ -239,6 +249,7 @@ void SampledFrame::write_run_stats(Stats& stats) const {
   stats.set("sample.rate", params_.rate);
   stats.set("sample.seed", params_.seed);
   stats.set("sample.warmup", params_.warmup_name);
+  stats.set("sample.estimator", params_.estimator_name);
   stats.set("sample.target_ci", params_.target_ci);
   stats.set("sample.units", n);
   stats.set("sample.units_total", plan_.size());
@@ -264,7 +275,7 @@ void SampledFrame::write_run_stats(Stats& stats) const {
         if (ia == layouts_[a].values.end() || ib == layouts_[b].values.end()) continue;
         std::vector<double> d(ia->second.size());
         for (size_t i = 0; i < d.size(); ++i) d[i] = ib->second[i] - ia->second[i];
-        const Estimate e = estimate(d);
+        const Estimate e = estimate(layouts_[a], d);  // the units' rays: the same in b
         const std::string stem =
             "sample.diff." + layouts_[b].layout + "-" + layouts_[a].layout + "." + key;
         stats.set(stem, e.value);

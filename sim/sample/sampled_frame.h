@@ -51,6 +51,8 @@ class SampledFrame {
   struct LayoutSample {
     std::string layout;
     std::map<std::string, std::vector<double>> values;  // key -> per-unit figure, drawing order
+    std::vector<double> unit_rays;  // wavefront order: per-unit rays, the same order
+    double frame_rays = 0.0;        // wavefront order: the whole frame's rays
     uint64_t rays_simulated = 0;
     uint64_t rays_warmed = 0;  // wavefront order: rays sent through the tier unmeasured
     double seconds = 0.0;
@@ -66,7 +68,8 @@ class SampledFrame {
                          size_t from, size_t to, FrameResult& frame, LayoutSample& sample);
   // This round's units in scan order of their first pixel (the order their figures are kept).
   std::vector<uint32_t> round_units(size_t from, size_t to) const;
-  Estimate estimate(const std::vector<double>& values) const;
+  // Whole-frame estimate of a figure measured per unit of `sample` (sample.estimator's).
+  Estimate estimate(const LayoutSample& sample, const std::vector<double>& values) const;
   // Largest relative half-width over the target figures, and the figure it belongs to.
   std::pair<double, std::string> widest_ci(const LayoutSample& sample) const;
 

@@ -52,8 +52,66 @@ assert a["sample.units"] == a["sample.units_total"] and a["sample.rays_warmed"] 
 for k in ["dram.bytes.nodes", "dram.bytes.total", "l1.misses", "layout.odfl.dram.bytes.nodes"]:
     assert a[k] == full[k], (k, a[k], full[k])
 PY
+# The timed interleaved mode's estimate.* are extensive figures too: whole-frame estimates with
+# CIs. Recursive order (one ray at a time): every unit gives the full run's figures exactly, and
+# 20% of the frame's CI holds them. Wavefront order, one ray in flight: the same. With 32 in
+# flight each unit's run of a batch starts empty and drains (the cut, docs/accuracy.md): every
+# unit overestimates estimate.cycles by as much as the cycle tier's sampled sim.cycles (within 3
+# points: the same cut of the same runs), and 20% stays of the full run's order.
+t=(--set image.width=64 --set image.height=64 --set functional.timed=true --set image.png=false --set image.heatmaps=false)
+trun() { local out=$1; shift; "$rtusim" run "$src/configs/default.toml" "${t[@]}" "$@" --out "$tmp/$out" > /dev/null; }
+for o in recursive wavefront; do
+  trun "tfull_$o" --set tracer.ray_order=$o
+  trun "tall_$o" --set tracer.ray_order=$o --set sample.rate=0.9999
+  trun "t20_$o" --set tracer.ray_order=$o --set sample.rate=0.2 --set sample.unit_pixels=16
+done
+trun tfull32 --set tracer.ray_order=wavefront --set functional.rays_in_flight=32
+trun tall32 --set tracer.ray_order=wavefront --set functional.rays_in_flight=32 --set sample.rate=0.9999
+trun t20_32 --set tracer.ray_order=wavefront --set functional.rays_in_flight=32 --set sample.rate=0.2 --set sample.unit_pixels=16
+c=(--set tracer.ray_order=wavefront --set sim.tier=cycle --set sim.rays_in_flight=32)
+trun cfull32 "${c[@]}"
+trun call32 "${c[@]}" --set sample.rate=0.9999
+python3 - "$tmp" <<'PY'
+import json, sys
+s = lambda k: json.load(open(f"{sys.argv[1]}/{k}/stats.json"))
+keys = ["estimate.cycles", "estimate.l1.primary_misses", "estimate.l1.mshr_stall_cycles"]
+for o in ["recursive", "wavefront"]:
+    full, every, part = s(f"tfull_{o}"), s(f"tall_{o}"), s(f"t20_{o}")
+    assert every["sample.units"] == every["sample.units_total"]
+    for k in keys:
+        assert abs(every[k] - full[k]) <= 1e-9 * full[k], (o, k, every[k], full[k])
+    k = "estimate.cycles"
+    assert part[k + ".ci95_low"] <= full[k] <= part[k + ".ci95_high"], (o, part[k], full[k])
+    assert part["sample.units"] < part["sample.units_total"] / 4
+full, every, part = s("tfull32"), s("tall32"), s("t20_32")
+cut_timed = every["estimate.cycles"] / full["estimate.cycles"] - 1
+cut_cycle = s("call32")["sim.cycles"] / s("cfull32")["sim.cycles"] - 1
+assert cut_timed > 0.1 and abs(cut_timed - cut_cycle) < 0.03, (cut_timed, cut_cycle)
+assert 0.5 < part["estimate.cycles"] / full["estimate.cycles"] < 2.0
+PY
+# The ratio estimator (wavefront order): node bytes per ray of the drawn units x the frame's rays;
+# rays.* exact; the paired difference is the difference of the two estimates (same units, same
+# rays); every unit gives the full run's figures.
+"$rtusim" run "$src/configs/default.toml" "${common[@]}" --set sample.rate=0.5 --set tracer.ray_order=wavefront \
+  --set sample.estimator=ratio --out "$tmp/wfr" > /dev/null
+"$rtusim" run "$src/configs/default.toml" "${common[@]}" --set sample.rate=0.9999 --set tracer.ray_order=wavefront \
+  --set sample.estimator=ratio --out "$tmp/wfrall" > /dev/null
+python3 - "$tmp/wfr/stats.json" "$tmp/wfrall/stats.json" "$tmp/wffull/stats.json" "$tmp/wf/stats.json" <<'PY'
+import json, sys
+r, rall, full, mean = (json.load(open(p)) for p in sys.argv[1:5])
+assert r["sample.estimator"] == "ratio" and mean["sample.estimator"] == "mean"
+assert r["rays.total"] == full["rays.total"]
+d = "sample.diff.odfl-dfl.dram.bytes.nodes"
+assert abs(r[d] - (r["layout.odfl.dram.bytes.nodes"] - r["layout.dfl.dram.bytes.nodes"])) < 1e-6 * r["dram.bytes.nodes"]
+for k in ["dram.bytes.nodes", "layout.odfl.dram.bytes.nodes", d]:
+    assert r[k + ".ci95_low"] <= r[k] <= r[k + ".ci95_high"], k
+assert r["dram.bytes.nodes"] != mean["dram.bytes.nodes"]
+for k in ["dram.bytes.nodes", "l1.misses", "layout.odfl.dram.bytes.nodes"]:
+    assert abs(rall[k] - full[k]) <= 1e-9 * full[k], (k, rall[k], full[k])
+PY
 # Bad sample keys: exit 2, one line naming the key, no output.
-for bad in "sample.method=pixels" "sample.rate=0" "sample.warmup=detailed" "sample.target_key=tree.nodes"; do
+for bad in "sample.method=pixels" "sample.rate=0" "sample.warmup=detailed" "sample.target_key=tree.nodes" \
+           "sample.estimator=median" "sample.estimator=ratio"; do
   set +e
   "$rtusim" run "$src/configs/default.toml" --set "$bad" --out "$tmp/bad" > /dev/null 2> "$tmp/bad.err"
   rc=$?

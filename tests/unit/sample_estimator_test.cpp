@@ -45,6 +45,25 @@ TEST(SampleEstimator, StratifiedWeightsAndFlags) {
   EXPECT_NE(lone.problem.find("stratum"), std::string::npos);
 }
 
+// The ratio estimator: X x (sum y / sum x); its width comes from the residuals y - R x, so a
+// figure proportional to x has none, and one that follows x loosely is narrower than the mean's.
+TEST(SampleEstimator, RatioEstimator) {
+  const Estimator e({10.0}, 2);
+  const Estimate exact = e.ratio({2, 4, 6, 8}, {1, 2, 3, 4}, 40.0, {0, 0, 0, 0});
+  EXPECT_DOUBLE_EQ(exact.value, 80.0);  // y = 2 x everywhere: 2 x the frame's 40
+  EXPECT_NEAR(exact.half_width, 0.0, 1e-9);
+  const std::vector<double> y{2.5, 3.5, 6.5, 7.5}, x{1, 2, 3, 4};
+  const Estimate r = e.ratio(y, x, 25.0, {0, 0, 0, 0});
+  EXPECT_DOUBLE_EQ(r.value, 25.0 * 20.0 / 10.0);
+  // Residuals y - 2x: 0.5, -0.5, 0.5, -0.5 -> s^2 = 1/3; Var = 100 x 0.6 x (1/3) / 4 = 5.
+  EXPECT_NEAR(r.half_width, 3.182 * std::sqrt(5.0), 1e-9);
+  EXPECT_LT(r.half_width, e.total(y, {0, 0, 0, 0}).half_width);
+  // A frame with twice the rays the sample implies: the variance scaled by (X / X_hat)^2 = 4.
+  EXPECT_NEAR(e.ratio(y, x, 50.0, {0, 0, 0, 0}).half_width, 2.0 * r.half_width, 1e-9);
+  EXPECT_TRUE(r.valid);
+  EXPECT_FALSE(Estimator({10.0}, 5).ratio(y, x, 25.0, {0, 0, 0, 0}).valid);  // 4 units < 5
+}
+
 // Every method splits the frame into units that hold each pixel once; the first tenth of the
 // stratified and tiles orders takes each stratum in proportion.
 TEST(SampleUnitPlan, PartitionsTheFrameAndDrawsInProportion) {
