@@ -36,22 +36,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-using rtusim::bench_timing::cpu_s;
 using rtusim::bench_timing::median;
+using rtusim::bench_timing::median_cpu_seconds;
 
 constexpr int kReps = 5;
-
-// The median CPU seconds of this thread over `kReps` calls of `run`.
-template <class F>
-double median_cpu_seconds(F&& run) {
-  std::vector<double> s;
-  for (int i = 0; i < kReps; ++i) {
-    const double t0 = cpu_s();
-    run();
-    s.push_back(cpu_s() - t0);
-  }
-  return median(s);
-}
 
 // The CPU seconds (user + system) of running argv to completion as a child process.
 double child_cpu_seconds(const std::vector<std::string>& argv) {
@@ -110,7 +98,7 @@ int main(int argc, char** argv) {
     }
     // The reference: the chunked decode loop replay_trace() runs, without the cache.
     uint64_t refs = 0;
-    const double decode_s = median_cpu_seconds([&] {
+    const double decode_s = median_cpu_seconds(kReps, [&] {
       TraceReader reader(path);
       std::vector<uint64_t> addrs;
       std::vector<uint32_t> sizes;
@@ -132,11 +120,11 @@ int main(int argc, char** argv) {
 
     const CacheParams params;  // 8 KB, 4-way, 64 B, lru
     TraceReplayCounts counts;
-    const double replay_s = median_cpu_seconds([&] {
+    const double replay_s = median_cpu_seconds(kReps, [&] {
       TraceReader reader(path);
       counts = replay_trace(reader, params);
     });
-    const double vector_s = median_cpu_seconds([&] { g_sink = first.decode().size(); });
+    const double vector_s = median_cpu_seconds(kReps, [&] { g_sink = first.decode().size(); });
     const std::string rtusim =
         (fs::read_symlink("/proc/self/exe").parent_path().parent_path() / "rtusim").string();
     std::vector<double> process;
