@@ -27,16 +27,28 @@ inline double median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
+// The median of `reps` calls of `run`, timed by `clock` (seconds).
+template <class Clock, class F>
+double median_timed(int reps, Clock clock, F&& run) {
+  std::vector<double> s;
+  for (int i = 0; i < reps; ++i) {
+    const double t0 = clock();
+    run();
+    s.push_back(clock() - t0);
+  }
+  return median(s);
+}
+
 // The median wall time of `reps` calls of `run`.
 template <class F>
 double median_seconds(int reps, F&& run) {
-  std::vector<double> s;
-  for (int i = 0; i < reps; ++i) {
-    const double t0 = now_s();
-    run();
-    s.push_back(now_s() - t0);
-  }
-  return median(s);
+  return median_timed(reps, now_s, run);
+}
+
+// The median CPU time of the calling thread over `reps` calls of `run`.
+template <class F>
+double median_cpu_seconds(int reps, F&& run) {
+  return median_timed(reps, cpu_s, run);
 }
 
 // A result line for bench/run_all.py: `RATIO<TAB>bench<TAB>case<TAB>subject<TAB>value<TAB>

@@ -58,23 +58,25 @@ struct CacheSweep::LineGroup {
     constexpr size_t kAhead = 4;  // fetches between a line's prefetch and its access
     for (size_t i = 0; i < fetches.size(); ++i) {
       if (i + kAhead < fetches.size()) {
-        const uint64_t soon = fetches[i + kAhead].addr >> shift;
+        const uint64_t soon = fetches[i + kAhead].addr() >> shift;
         if (full) full->prefetch(static_cast<uint32_t>(soon));
       }
       const SweepFetch& f = fetches[i];
-      if (f.bytes == 0) continue;
-      const uint64_t first = f.addr >> shift, last = (f.addr + f.bytes - 1) >> shift;
+      const uint32_t bytes = f.bytes(), tag = f.tag();
+      if (bytes == 0) continue;
+      const uint64_t addr = f.addr();
+      const uint64_t first = addr >> shift, last = (addr + bytes - 1) >> shift;
       for (uint64_t line = first; line <= last; ++line) {
-        ++accesses[f.tag];
+        ++accesses[tag];
         // The line just accessed again: a hit at distance 0 everywhere, no state changes.
         if (line == last_line) {
-          ++repeats[f.tag];
+          ++repeats[tag];
           continue;
         }
         last_line = line;
-        if (full) ++full_hist[full->access(static_cast<uint32_t>(line))][f.tag];
+        if (full) ++full_hist[full->access(static_cast<uint32_t>(line))][tag];
         if (engines == 0) continue;
-        uint64_t* h = hist.data() + f.tag * engines * stride;
+        uint64_t* h = hist.data() + tag * engines * stride;
         size_t stop = engines;
         if (paired) {
           stop = paired->access(line, h);
@@ -88,7 +90,7 @@ struct CacheSweep::LineGroup {
             }
           }
         }
-        ++stopped[f.tag * (engines + 1) + stop];
+        ++stopped[tag * (engines + 1) + stop];
       }
     }
   }
@@ -207,10 +209,10 @@ void CacheSweep::feed_task(size_t task, std::span<const SweepFetch> fetches) {
   SideCache& s = side_[task - groups_.size()];
   s.cache.visit([&](auto& cache) {
     for (const SweepFetch& f : fetches) {
-      if (f.bytes == 0) continue;
+      if (f.bytes() == 0) continue;
       const uint64_t before = cache.accesses();
-      s.misses[f.tag] += cache.access_range(f.addr, f.bytes);
-      s.accesses[f.tag] += cache.accesses() - before;
+      s.misses[f.tag()] += cache.access_range(f.addr(), f.bytes());
+      s.accesses[f.tag()] += cache.accesses() - before;
     }
   });
 }

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <stdexcept>
 #include <vector>
 
 #include "cache/cache_params.h"
@@ -19,11 +20,25 @@
 
 namespace rtusim {
 
-// One fetch of a recorded chunk: `bytes` at `addr`, on stream `tag` (Stream as an int).
-struct SweepFetch {
-  uint64_t addr;
-  uint32_t bytes;
-  uint32_t tag;
+// One fetch of a recorded chunk: `bytes` at `addr`, on stream `tag` (Stream as an int), packed
+// into 8 bytes (addr below 2^40, bytes below 2^22, tag below 4): the chunks are read once per
+// line size, so their size is memory traffic.
+class SweepFetch {
+ public:
+  SweepFetch(uint64_t addr, uint32_t bytes, uint32_t tag)
+      : bits_(addr << kAddrShift | uint64_t{bytes} << kTagBits | tag) {
+    if ((addr >> (64 - kAddrShift)) != 0 || (bytes >> (kAddrShift - kTagBits)) != 0 || tag >= 4)
+      throw std::logic_error("SweepFetch: address, size or tag out of range");
+  }
+  uint64_t addr() const { return bits_ >> kAddrShift; }
+  uint32_t bytes() const {
+    return static_cast<uint32_t>(bits_ >> kTagBits) & ((uint32_t{1} << (kAddrShift - kTagBits)) - 1);
+  }
+  uint32_t tag() const { return static_cast<uint32_t>(bits_) & ((1u << kTagBits) - 1); }
+
+ private:
+  static constexpr unsigned kTagBits = 2, kAddrShift = 24;
+  uint64_t bits_;
 };
 
 class CacheSweep {

@@ -73,8 +73,8 @@ void expect_equal_to_one_cache_each(const std::vector<const char*>& policies,
     CacheSweep::PerTag acc{}, miss{};
     for (const SweepFetch& f : stream) {
       const uint64_t before = cache.accesses();
-      miss[f.tag] += cache.access_range(f.addr, f.bytes);
-      acc[f.tag] += cache.accesses() - before;
+      miss[f.tag()] += cache.access_range(f.addr(), f.bytes());
+      acc[f.tag()] += cache.accesses() - before;
     }
     const CacheParams& c = configs[i];
     SCOPED_TRACE(c.policy + " " + std::to_string(c.size_bytes) + " B " + std::to_string(c.assoc) +
@@ -118,6 +118,16 @@ TEST(CacheSweep, OneSetStackAtManyCapacities) {
   sweep.feed(stream);
   for (size_t i = 0; i < configs.size(); ++i)
     EXPECT_EQ(sweep.misses(i)[0], configs[i].assoc >= 40 ? 40u : 400u) << configs[i].assoc;
+}
+
+TEST(SweepFetch, PacksItsFieldsAndRejectsWhatDoesNotFit) {
+  const SweepFetch f((uint64_t{1} << 40) - 3, (1u << 22) - 1, 3);
+  EXPECT_EQ(f.addr(), (uint64_t{1} << 40) - 3);
+  EXPECT_EQ(f.bytes(), (1u << 22) - 1);
+  EXPECT_EQ(f.tag(), 3u);
+  EXPECT_THROW(SweepFetch(uint64_t{1} << 40, 8, 0), std::logic_error);
+  EXPECT_THROW(SweepFetch(0, 1u << 22, 0), std::logic_error);
+  EXPECT_THROW(SweepFetch(0, 8, 4), std::logic_error);
 }
 
 }  // namespace
