@@ -47,6 +47,9 @@ done
 test "$(cat "$tmp/fail1.status")" = 2
 grep -q "unit_odfl.vcd: is a directory" "$tmp/fail1.err"
 cmp "$tmp/fail1.status" "$tmp/fail3.status"
-cmp "$tmp/fail1.err" "$tmp/fail3.err"
+# The same stderr; a sanitizer build's own reports (lines of ==PID== and what follows them, e.g.
+# ASan's note on SystemC's coroutine stacks, once per process) are not the run's output.
+rtusim_lines() { grep -v -e '^==[0-9]*==' -e '^False positive error reports' -e '^For details see' "$1" || true; }
+diff <(rtusim_lines "$tmp/fail1.err") <(rtusim_lines "$tmp/fail3.err")
 if ls "$tmp/vcd" | grep -q '\.tmp-'; then echo "a child left a temporary VCD" >&2; exit 1; fi
 echo "layout_processes: ok"
