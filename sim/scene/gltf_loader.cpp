@@ -8,8 +8,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
+#include <optional>
 #include <limits>
 #include <string>
 #include <string_view>
@@ -24,6 +23,7 @@
 #include <tiny_gltf.h>
 
 #include "util/error.h"
+#include "util/read_text_file.h"
 
 namespace rtusim {
 namespace {
@@ -647,12 +647,9 @@ Scene load_gltf(const std::string& path, const SceneLimits& limits) {
     throw InputError(path + ": " + std::to_string(file_bytes >> 20) + " MiB file, over the limit of " +
                      std::to_string(limits.max_scene_bytes >> 20) + " MiB (RTUSIM_MAX_SCENE_MB)");
   // The file is read once: checked, then parsed from memory.
-  std::string file;
-  {
-    std::ifstream in(path, std::ios::binary);
-    file.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-    if (in.bad()) throw InputError(path + ": cannot read the file");
-  }
+  const std::optional<std::string> read = read_text_file(path);
+  if (!read) throw InputError(path + ": cannot read the file");
+  const std::string& file = *read;
   const bool glb = ext == ".glb";
   check_json_before_parse(path, file, glb, limits);
 
