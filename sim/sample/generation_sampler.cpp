@@ -61,10 +61,7 @@ void GenerationSampler::trace(std::span<const RayRecord> rays, std::span<Hit> hi
     send(rays.subspan(i, end - i), hits.subspan(i, end - i));
     tier_.write_stats(after);
     next_unsent_ = batch_start_ + end;
-    std::map<std::string, double>& v = values_[unit];
-    for (const auto& [key, value] : after.values())
-      if (SampledFrame::is_extensive(key) && value.is_number())
-        v[key] += value.get<double>() - before.at(key).get<double>();
+    SampledFrame::add_extensive_change(before, after, values_[unit]);
     rays_[unit] += double(end - i);
     rays_measured_ += end - i;
     i = end;

@@ -39,6 +39,13 @@ bool SampledFrame::is_extensive(const std::string& key) {
   return false;
 }
 
+void SampledFrame::add_extensive_change(const Stats& before, const Stats& after,
+                                        std::map<std::string, double>& into) {
+  for (const auto& [key, value] : after.values())
+    if (is_extensive(key) && value.is_number())
+      into[key] += value.get<double>() - before.at(key).get<double>();
+}
+
 SampledFrame::SampledFrame(const SampleParams& params, int width, int height, RayOrder order)
     : params_(params), width_(width), height_(height), order_(order),
       plan_(make_unit_plan(params, width, height)),
@@ -106,9 +113,7 @@ void SampledFrame::trace_units(WhittedTracer& tracer, const PinholeCamera& camer
     tier.write_stats(before);
     tracer.render_pixels(camera, pixels, frame);
     tier.write_stats(after);
-    for (const auto& [key, value] : after.values())
-      if (is_extensive(key) && value.is_number())
-        unit_values[key] += value.get<double>() - before.at(key).get<double>();
+    add_extensive_change(before, after, unit_values);
     uint64_t rays = 0;
     for (int k = 0; k < kRayKinds; ++k) {
       unit_values[kRayKeys[k]] += double(frame.rays_by_kind[k] - rays_before[k]);

@@ -46,6 +46,10 @@ class SampledFrame {
 
   // Whether a stats key is an extensive figure (a count that adds up over pixels).
   static bool is_extensive(const std::string& key);
+  // Adds each extensive figure's change from `before` to `after` (the tier's stats around a
+  // measured span) to `into`.
+  static void add_extensive_change(const Stats& before, const Stats& after,
+                                   std::map<std::string, double>& into);
 
  private:
   struct LayoutSample {
