@@ -31,7 +31,7 @@ TraversalUnit::TraversalUnit(const sc_core::sc_module_name& name, const UnitPara
       events_(p.rays_in_flight),
       arrivals_(p.rays_in_flight, /*slot_order=*/true),
       step_calendar_(kCalendarCycles / 64, 0),
-      lane_free_(p.isect_lanes, 0) {
+      lanes_(p) {
   node_socket.register_nb_transport_bw(this, &TraversalUnit::nb_transport_bw);
   data_socket.register_nb_transport_bw(this, &TraversalUnit::nb_transport_bw);
   SC_THREAD(run);
@@ -228,9 +228,7 @@ void TraversalUnit::data_ready(uint32_t slot, uint64_t ready) {
 
 template <class Decoder>
 void TraversalUnit::process(Slot& s, uint32_t index, uint64_t t) {
-  // Fetches of the leaf's triangles start after its list, if it has one.
-  const size_t first_triangle =
-      s.fetches.size() > 1 && s.fetches[1].stream == Stream::kList ? 2 : 1;
+  const size_t first_triangle = first_triangle_fetch(s.fetches);
   switch (s.phase) {
     case Phase::kStep: {
       s.fetches.clear();
@@ -267,14 +265,9 @@ void TraversalUnit::process(Slot& s, uint32_t index, uint64_t t) {
       [[fallthrough]];  // an empty leaf
     case Phase::kIsect: {
       // Every triangle fetched goes through the intersection pipeline.
-      uint64_t end = t;
-      for (size_t i = first_triangle; i < s.fetches.size(); ++i) {
-        auto lane = std::min_element(lane_free_.begin(), lane_free_.end());
-        const uint64_t start = std::max(t, *lane);
-        *lane = start + p_.isect_interval_cycles;
-        end = std::max(end, start + p_.isect_latency_cycles);
-        ++isect_tests_;
-      }
+      const size_t tests = s.fetches.size() - first_triangle;
+      const uint64_t end = lanes_.book(tests, t);
+      isect_tests_ += tests;
       if (s.st.done)
         finish_ray(index, end);
       else

@@ -37,6 +37,7 @@
 #include "mem/mem_protocol.h"
 #include "model/event_wheel.h"
 #include "model/host_interface.h"
+#include "model/isect_lanes.h"
 #include "model/unit_params.h"
 #include "traversal/fetch_recorder.h"
 #include "traversal/traversal.h"
@@ -137,7 +138,7 @@ class TraversalUnit : public sc_core::sc_module {
   static constexpr uint64_t kCalendarCycles = uint64_t{1} << 16;
   std::vector<uint64_t> step_calendar_;  // kCalendarCycles / 64 words
   uint64_t calendar_clear_ = 0;          // cycles before this one are cleared
-  std::vector<uint64_t> lane_free_;  // per intersection lane: next cycle it takes a test
+  IsectLanes lanes_;
 
   // A payload of the unit's, with its tag at hand (get_extension() is a library call; the
   // memory side returns the very payload the unit sent).

@@ -19,7 +19,7 @@ TimedInterleaver::TimedInterleaver(const MemoryImage& image, const CycleParams& 
       dram_(make_dram_backend(timing.dram)),
       slots_(static_cast<size_t>(rays_in_flight)),
       events_(static_cast<uint32_t>(rays_in_flight), /*slot_order=*/true),
-      lane_free_(timing.unit.isect_lanes, 0) {
+      lanes_(timing.unit) {
   if (period_ps_ == 0) throw std::logic_error("timed interleaver: clock period not derived");
   auto l1_timing = [](L1Timing& t, const L1Params& p) {
     t.hit_cycles = p.hit_cycles;
@@ -112,17 +112,6 @@ uint64_t TimedInterleaver::send(Slot& slot, const Fetch& f, uint64_t t, Sink& si
   return ready;
 }
 
-uint64_t TimedInterleaver::intersect(size_t tests, uint64_t t) {
-  uint64_t end = t;
-  for (size_t i = 0; i < tests; ++i) {
-    auto lane = std::min_element(lane_free_.begin(), lane_free_.end());
-    const uint64_t start = std::max(t, *lane);
-    *lane = start + unit_.isect_interval_cycles;
-    end = std::max(end, start + unit_.isect_latency_cycles);
-  }
-  return end;
-}
-
 void TimedInterleaver::trace(std::span<const RayRecord> rays, std::span<Hit> hits,
                              FetchCache& caches,
                              const std::function<void(uint32_t, uint64_t)>& charge) {
@@ -167,8 +156,7 @@ void TimedInterleaver::run(std::span<const RayRecord> rays, std::span<Hit> hits,
     uint64_t t;
     const uint32_t slot = events_.pop(t);
     Slot& s = slots_[slot];
-    const size_t first_triangle =
-        s.fetches.size() > 1 && s.fetches[1].stream == Stream::kList ? 2 : 1;
+    const size_t first_triangle = first_triangle_fetch(s.fetches);
     switch (s.phase) {
       case Phase::kStep: {
         const uint64_t c = std::max(t, step_free_);  // the step pipeline: one step a cycle
@@ -204,7 +192,7 @@ void TimedInterleaver::run(std::span<const RayRecord> rays, std::span<Hit> hits,
         }
         [[fallthrough]];  // an empty leaf
       case Phase::kIsect: {
-        const uint64_t end = intersect(s.fetches.size() - first_triangle, t);
+        const uint64_t end = lanes_.book(s.fetches.size() - first_triangle, t);
         if (s.st.done) {
           finish(slot, end);
         } else {

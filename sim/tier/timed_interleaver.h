@@ -31,6 +31,7 @@
 #include "mem/dram/dram_backend.h"
 #include "model/cycle_params.h"
 #include "model/event_wheel.h"
+#include "model/isect_lanes.h"
 #include "tracer/ray_batch.h"
 #include "traversal/fetch_recorder.h"
 #include "traversal/traversal.h"
@@ -91,8 +92,6 @@ class TimedInterleaver {
   uint64_t l1_line(L1Timing& l1, uint64_t line, bool in_tags, Stream s, uint64_t t);
   // The cycle a DRAM read of `bytes` at `addr` sent at cycle t completes.
   uint64_t dram_read(uint64_t addr, uint32_t bytes, Stream s, uint64_t t);
-  // End of intersection tests of `tests` triangles whose data is there at cycle t.
-  uint64_t intersect(size_t tests, uint64_t t);
 
   const MemoryImage& image_;
   UnitParams unit_;
@@ -106,7 +105,7 @@ class TimedInterleaver {
   std::vector<Slot> slots_;
   EventWheel events_;  // each busy slot's next event, by cycle, then slot
   uint64_t step_free_ = 0;           // the step pipeline's next free cycle
-  std::vector<uint64_t> lane_free_;  // per intersection lane: next cycle it takes a test
+  IsectLanes lanes_;
   uint64_t last_cycle_ = 0;          // the last ray's end so far
 };
 
