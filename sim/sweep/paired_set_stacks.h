@@ -10,6 +10,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "sweep/set_lru_stacks.h"
+
 #if defined(__AVX512F__)
 #include <immintrin.h>
 #endif
@@ -79,17 +81,9 @@ class PairedSetStacks {
     _mm256_store_si256(reinterpret_cast<__m256i*>(sa), _mm512_castsi512_si256(out));
     _mm256_store_si256(reinterpret_cast<__m256i*>(sb), _mm512_extracti64x4_epi64(out, 1));
 #else
-    da = access_one(sa, tag, depth_a);
-    db = access_one(sb, tag, depth_b);
+    da = lru_stack_access(sa, tag, depth_a);
+    db = lru_stack_access(sb, tag, depth_b);
 #endif
-  }
-
-  static uint32_t access_one(uint32_t* s, uint32_t tag, uint32_t depth) {
-    uint32_t d = 0;
-    while (d < depth && s[d] != tag) ++d;
-    for (uint32_t i = d < depth ? d : depth - 1; i > 0; --i) s[i] = s[i - 1];
-    s[0] = tag;
-    return d;
   }
 
   std::vector<Engine> engine_;

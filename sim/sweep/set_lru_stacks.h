@@ -16,6 +16,16 @@
 
 namespace rtusim {
 
+// One set's LRU stack of `depth` lines at `s`, most recent first: finds `tag`, moves it to the
+// top and returns its distance before (depth when it was not there; the last line drops out).
+inline uint32_t lru_stack_access(uint32_t* s, uint32_t tag, uint32_t depth) {
+  uint32_t d = 0;
+  while (d < depth && s[d] != tag) ++d;
+  for (uint32_t i = d < depth ? d : depth - 1; i > 0; --i) s[i] = s[i - 1];
+  s[0] = tag;
+  return d;
+}
+
 class SetLruStacks {
  public:
   SetLruStacks(uint32_t sets, uint32_t depth);
@@ -28,12 +38,7 @@ class SetLruStacks {
 #if defined(__AVX2__) || defined(__SSE2__)
     if (stride_ == kVector) return access8(s, tag);
 #endif
-    uint32_t d = 0;
-    while (d < depth_ && s[d] != tag) ++d;
-    const uint32_t moved = d < depth_ ? d : depth_ - 1;
-    for (uint32_t i = moved; i > 0; --i) s[i] = s[i - 1];
-    s[0] = tag;
-    return d;
+    return lru_stack_access(s, tag, depth_);
   }
 
   uint32_t sets() const { return static_cast<uint32_t>(set_mask_ + 1); }
