@@ -6,6 +6,7 @@
 
 #include "layout/layout_dispatch.h"
 #include "mem/dram/dram_backends.h"
+#include "tracer/chunk_pipeline.h"
 #include "util/stats.h"
 
 namespace rtusim {
@@ -76,19 +77,20 @@ uint64_t TimedInterleaver::l1_line(L1Timing& l1, uint64_t line, bool in_tags, St
 }
 
 template <class Sink>
-uint64_t TimedInterleaver::send(Slot& slot, const Fetch& f, uint64_t t, Sink& sink,
+uint64_t TimedInterleaver::send(Slot& slot, const RayStepLog::Fetch& f, uint64_t t, Sink& sink,
                                 const FetchCache& caches) {
+  const Stream stream = f.stream();
   // The access itself: the caches' state and counts, its bytes charged to the ray.
   auto account = [&] {
     const uint64_t before = caches.dram_bytes_total();
-    sink.fetch(f.stream, f.addr, f.bytes);
+    sink.fetch(stream, f.addr, f.bytes);
     slot.dram_bytes += caches.dram_bytes_total() - before;
   };
   if (f.bytes == 0) {
     account();
     return t;
   }
-  const bool node = f.stream == Stream::kNode;
+  const bool node = stream == Stream::kNode;
   L1Timing* l1 = node ? &node_l1_ : data_cache_.get();
   const uint64_t line_bytes = l1 ? l1->line_bytes : data_line_bytes_;
   const uint64_t first = f.addr / line_bytes, last = (f.addr + f.bytes - 1) / line_bytes;
@@ -97,107 +99,150 @@ uint64_t TimedInterleaver::send(Slot& slot, const Fetch& f, uint64_t t, Sink& si
     account();
     for (uint64_t line = first; line <= last; ++line)
       ready = std::max(ready, dram_read(line * line_bytes, static_cast<uint32_t>(line_bytes),
-                                        f.stream, t));
+                                        stream, t));
     return ready;
   }
   if (first == last) {  // one line: the access says whether it was in the tags
-    const uint64_t misses = caches.stream(f.stream).misses;
+    const uint64_t misses = caches.stream(stream).misses;
     account();
-    return l1_line(*l1, first, caches.stream(f.stream).misses == misses, f.stream, t);
+    return l1_line(*l1, first, caches.stream(stream).misses == misses, stream, t);
   }
   const SetAssocCache& tags = node ? caches.node_l1() : *caches.data_cache();
   for (uint64_t line = first; line <= last; ++line)
-    ready = std::max(ready, l1_line(*l1, line, tags.contains(line * line_bytes), f.stream, t));
+    ready = std::max(ready, l1_line(*l1, line, tags.contains(line * line_bytes), stream, t));
   account();
   return ready;
 }
 
+namespace {
+constexpr size_t kRaysPerChunk = 256;  // a batch's rays per recording task
+}  // namespace
+
 void TimedInterleaver::trace(std::span<const RayRecord> rays, std::span<Hit> hits,
-                             FetchCache& caches,
-                             const std::function<void(uint32_t, uint64_t)>& charge) {
-  caches.with_inlined_node_l1([&](auto& sink) {
+                             FetchCache& caches, const Charge& charge) {
+  starting_ = 0;
+  batch_start_ = last_cycle_;
+  waiting_ = kNoSlot;
+  // Records rays [begin, begin + n) into `log`, their hits into hits.
+  auto record = [&](size_t begin, size_t n, RayStepLog& log) {
+    log.clear();
     with_layout_decoder(image_, [&]<class Decoder>() {
-      run<Decoder>(rays, hits, sink, caches, charge);
+      for (size_t i = begin; i < begin + n; ++i) hits[i] = log.record<Decoder>(image_, rays[i]);
     });
-  });
+  };
+  const size_t chunks = (rays.size() + kRaysPerChunk - 1) / kRaysPerChunk;
+  if (chunks <= 1) {
+    record(0, rays.size(), log_);
+    time(log_, /*last=*/true, caches, charge);
+    return;
+  }
+  run_chunks<RayStepLog>(
+      chunks,
+      [&](size_t c, RayStepLog& log) {
+        const size_t begin = c * kRaysPerChunk;
+        record(begin, std::min(kRaysPerChunk, rays.size() - begin), log);
+      },
+      [&](size_t c, RayStepLog& log) { time(log, c + 1 == chunks, caches, charge); });
 }
 
-template <class Decoder, class Sink>
-void TimedInterleaver::run(std::span<const RayRecord> rays, std::span<Hit> hits, Sink& sink,
-                           FetchCache& caches,
-                           const std::function<void(uint32_t, uint64_t)>& charge) {
+void TimedInterleaver::time(const RayStepLog& log, bool last, FetchCache& caches,
+                            const Charge& charge) {
+  caches.with_inlined_node_l1([&](auto& sink) { run(log, last, sink, caches, charge); });
+}
+
+template <class Sink>
+void TimedInterleaver::run(const RayStepLog& log, bool last, Sink& sink, FetchCache& caches,
+                           const Charge& charge) {
   size_t next = 0;
-  // Starts the batch's next ray that enters the scene's bounds in `slot` at cycle t.
+  // Starts the log's next ray that takes a step in `slot` at cycle t; false when the log has
+  // none left and the batch goes on in the next log.
   auto start = [&](uint32_t slot, uint64_t t) {
-    Slot& s = slots_[slot];
-    while (next < rays.size()) {
-      s.ray = static_cast<uint32_t>(next++);
-      traversal_begin(s.st, image_, rays[s.ray].ray, rays[s.ray].any_hit());
-      if (s.st.done) {  // misses the bounds: no step at all
-        hits[s.ray] = s.st.hit;
-        continue;
-      }
+    while (next < log.ray_count()) {
+      const std::span<const uint64_t> words = log.ray(next);
+      const uint32_t pixel = log.pixel(next++);
+      if (words.empty()) continue;  // misses the scene's bounds: no step at all
+      Slot& s = slots_[slot];
+      s.words.assign(words.begin(), words.end());
+      s.pos = 0;
+      s.pixel = pixel;
       s.phase = Phase::kStep;
       s.dram_bytes = 0;
       events_.push(t, slot);
-      return;
+      return true;
     }
+    return last;
   };
+  // The ray in `slot` ends at cycle t: false when its slot waits for the next log.
   auto finish = [&](uint32_t slot, uint64_t t) {
     Slot& s = slots_[slot];
-    hits[s.ray] = s.st.hit;
-    charge(rays[s.ray].pixel, s.dram_bytes);
+    charge(s.pixel, s.dram_bytes);
     last_cycle_ = std::max(last_cycle_, t);
-    start(slot, t);
+    if (start(slot, t)) return true;
+    waiting_ = slot;
+    waiting_cycle_ = t;
+    return false;
   };
-  const uint64_t t0 = last_cycle_;
-  for (uint32_t i = 0; i < slots_.size(); ++i) start(i, t0);
+  for (; starting_ < slots_.size(); ++starting_)
+    if (!start(starting_, batch_start_)) return;
+  if (waiting_ != kNoSlot) {
+    if (!start(waiting_, waiting_cycle_)) return;
+    waiting_ = kNoSlot;
+  }
   while (!events_.empty()) {
     uint64_t t;
     const uint32_t slot = events_.pop(t);
     Slot& s = slots_[slot];
-    const size_t first_triangle = first_triangle_fetch(s.fetches);
+    const uint64_t* const words = s.words.data();
+    const uint64_t* p = words + s.pos;
+    const uint64_t* const end = words + s.words.size();
+    uint64_t ready;
     switch (s.phase) {
       case Phase::kStep: {
         const uint64_t c = std::max(t, step_free_);  // the step pipeline: one step a cycle
         step_free_ = c + 1;
-        s.fetches.clear();
-        Recorder rec{&s.fetches};
-        const StepKind kind = traversal_step<Decoder>(s.st, image_, rec);
-        if (kind == StepKind::kDone) {  // not reached: rays end after their leaf
-          finish(slot, c);
+        if (p == end) {  // not reached: rays end after their leaf
+          if (!finish(slot, c)) return;
           break;
         }
-        const uint64_t decided = send(s, s.fetches[0], c, sink, caches) + unit_.step_cycles;
-        if (kind == StepKind::kLeaf) s.phase = Phase::kLeafBody;
+        const RayStepLog::Fetch node = RayStepLog::next(p);
+        s.pos = static_cast<size_t>(p - words);
+        const uint64_t decided = send(s, node, c, sink, caches) + unit_.step_cycles;
+        if (node.kind == RayStepLog::Kind::kLeaf) s.phase = Phase::kLeafBody;
         events_.push(decided, slot);
         break;
       }
       case Phase::kLeafBody:
-        if (first_triangle == 2) {
-          const uint64_t ready = send(s, s.fetches[1], t, sink, caches);
+        if (p != end && RayStepLog::kind(*p) == RayStepLog::Kind::kList) {
+          const RayStepLog::Fetch list = RayStepLog::next(p);
+          s.pos = static_cast<size_t>(p - words);
+          ready = send(s, list, t, sink, caches);
           s.phase = Phase::kTriangles;
           events_.push(ready, slot);
           break;
         }
         [[fallthrough]];
       case Phase::kTriangles:
-        if (first_triangle < s.fetches.size()) {
-          uint64_t ready = t;
-          for (size_t i = first_triangle; i < s.fetches.size(); ++i)
-            ready = std::max(ready, send(s, s.fetches[i], t, sink, caches));
+        // The rest of the leaf's fetches, all sent at once; each is a test in the lanes.
+        ready = t;
+        s.tests = 0;
+        while (p != end && !RayStepLog::is_node(*p)) {
+          ready = std::max(ready, send(s, RayStepLog::next(p), t, sink, caches));
+          ++s.tests;
+        }
+        s.pos = static_cast<size_t>(p - words);
+        if (s.tests > 0) {
           s.phase = Phase::kIsect;
           events_.push(ready, slot);
           break;
         }
         [[fallthrough]];  // an empty leaf
       case Phase::kIsect: {
-        const uint64_t end = lanes_.book(s.fetches.size() - first_triangle, t);
-        if (s.st.done) {
-          finish(slot, end);
+        const uint64_t done = lanes_.book(s.tests, t);
+        if (p == end) {
+          if (!finish(slot, done)) return;
         } else {
           s.phase = Phase::kStep;
-          events_.push(end, slot);
+          events_.push(done, slot);
         }
         break;
       }

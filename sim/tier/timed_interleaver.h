@@ -19,6 +19,8 @@
 // Not modelled: the L1's fill port (one fill per cycle), its in-order port across rays of the
 // same cycle, the step pipeline's booking ahead of time. estimate.cycles (the last ray's end) is
 // therefore an estimate of the cycle tier's sim.cycles, not a cycle count.
+// A ray's traversal does not depend on the order, so a batch's rays are traversed first, in
+// chunks on every thread (RayStepLog), and the model goes over their records on one thread.
 #pragma once
 #include <cstdint>
 #include <functional>
@@ -32,9 +34,8 @@
 #include "model/cycle_params.h"
 #include "model/event_wheel.h"
 #include "model/isect_lanes.h"
+#include "tier/ray_step_log.h"
 #include "tracer/ray_batch.h"
-#include "traversal/fetch_recorder.h"
-#include "traversal/traversal.h"
 
 namespace rtusim {
 
@@ -42,6 +43,8 @@ class Stats;
 
 class TimedInterleaver {
  public:
+  // Takes (pixel, DRAM bytes) of a ray.
+  using Charge = std::function<void(uint32_t, uint64_t)>;
   // `timing` derived (CycleParams::derive()); `image` must outlive the interleaver.
   TimedInterleaver(const MemoryImage& image, const CycleParams& timing, int rays_in_flight);
   ~TimedInterleaver();
@@ -49,7 +52,7 @@ class TimedInterleaver {
   // Traces a batch through `caches`; calls charge(pixel, DRAM bytes) once per ray with the
   // bytes its fetches caused. Time goes on from the previous batch's end.
   void trace(std::span<const RayRecord> rays, std::span<Hit> hits, FetchCache& caches,
-             const std::function<void(uint32_t, uint64_t)>& charge);
+             const Charge& charge);
 
   uint64_t cycles() const { return last_cycle_; }
   // estimate.cycles, estimate.l1.{primary,merged}_misses, estimate.l1.mshr_stall_cycles.
@@ -57,14 +60,13 @@ class TimedInterleaver {
 
  private:
   enum class Phase : uint8_t { kStep, kLeafBody, kTriangles, kIsect };
-  using Fetch = RecordedFetch;
-  using Recorder = FetchRecorder;
   struct Slot {
-    TraversalState st;
-    uint32_t ray = 0;
+    std::vector<uint64_t> words;  // the ray's steps (RayStepLog), copied from its log
+    size_t pos = 0;               // the next fetch's first word
+    uint32_t pixel = 0;
+    uint32_t tests = 0;           // of the current leaf
     Phase phase = Phase::kStep;
-    std::vector<Fetch> fetches;  // of the current step, in issue order
-    uint64_t dram_bytes = 0;     // of the current ray, charged when it ends
+    uint64_t dram_bytes = 0;      // of the current ray, charged when it ends
   };
   // One L1's timing: MSHRs (line, fill cycle) and the lookup port.
   struct L1Timing {
@@ -79,14 +81,19 @@ class TimedInterleaver {
     uint64_t busy_until = 0;  // the latest fill: no MSHR is busy from here on
     uint64_t primary = 0, merged = 0, stall_cycles = 0;
   };
-  template <class Decoder, class Sink>
-  void run(std::span<const RayRecord> rays, std::span<Hit> hits, Sink& sink, FetchCache& caches,
-           const std::function<void(uint32_t, uint64_t)>& charge);
+  // Times the rays of `log`, the next of the batch, through the caches from where the previous
+  // log left off: until a slot needs a ray after the log's last, or, when `last` (the batch's
+  // last log), until every ray has ended.
+  void time(const RayStepLog& log, bool last, FetchCache& caches, const Charge& charge);
+  template <class Sink>
+  void run(const RayStepLog& log, bool last, Sink& sink, FetchCache& caches,
+           const Charge& charge);
   // Sends fetch `f` of `slot`'s ray at cycle t: to the functional caches through `sink` (their
   // state and counts; its DRAM bytes charged to the ray) and through the timing model; returns
   // the cycle its data is all there.
   template <class Sink>
-  uint64_t send(Slot& slot, const Fetch& f, uint64_t t, Sink& sink, const FetchCache& caches);
+  uint64_t send(Slot& slot, const RayStepLog::Fetch& f, uint64_t t, Sink& sink,
+                const FetchCache& caches);
   // The cycle line number `line` (in the tags before the access: `in_tags`) looked up in `l1`
   // from cycle t is there.
   uint64_t l1_line(L1Timing& l1, uint64_t line, bool in_tags, Stream s, uint64_t t);
@@ -107,6 +114,14 @@ class TimedInterleaver {
   uint64_t step_free_ = 0;           // the step pipeline's next free cycle
   IsectLanes lanes_;
   uint64_t last_cycle_ = 0;          // the last ray's end so far
+  // Where the batch's timing stopped for the next log: slots not started yet (from
+  // starting_ on, at batch_start_), and a slot whose ray ended waiting for its next ray.
+  static constexpr uint32_t kNoSlot = ~uint32_t{0};
+  uint32_t starting_ = 0;
+  uint64_t batch_start_ = 0;
+  uint32_t waiting_ = kNoSlot;
+  uint64_t waiting_cycle_ = 0;
+  RayStepLog log_;  // a batch of one chunk: recorded and timed on this thread
 };
 
 }  // namespace rtusim

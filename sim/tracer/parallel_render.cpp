@@ -9,9 +9,9 @@
 
 #include <oneapi/tbb/enumerable_thread_specific.h>
 #include <oneapi/tbb/global_control.h>
-#include <oneapi/tbb/parallel_pipeline.h>
 
 #include "layout/layout_dispatch.h"
+#include "tracer/chunk_pipeline.h"
 #include "tracer/fetch_log.h"
 #include "traversal/traversal.h"
 
@@ -25,7 +25,6 @@ namespace {
 
 constexpr size_t kRaysPerChunk = 256;   // a batch's rays per task
 constexpr size_t kPixelsPerChunk = 16;  // recursive order: pixels (whole ray trees) per task
-constexpr int kChunksPerThread = 4;     // chunks alive per thread: bounds the logs' memory
 
 // A backend that traverses with the shared step and records the fetches in a log.
 class RecordingBackend final : public TraceBackend {
@@ -45,29 +44,6 @@ class RecordingBackend final : public TraceBackend {
   const MemoryImage& image_;
   FetchLog* log_;
 };
-
-// Runs chunks [0, count) through trace(chunk, slot) on the worker threads and then
-// consume(chunk, slot) on one thread in chunk order. A slot is reused by chunk + slots.
-template <class Slot, class Trace, class Consume>
-void run_chunks(size_t count, Trace&& trace, Consume&& consume) {
-  const size_t slots = size_t(kChunksPerThread) * parallel_threads();
-  std::vector<Slot> slot(slots);
-  size_t next = 0;
-  tbb::parallel_pipeline(
-      slots,
-      tbb::make_filter<void, size_t>(tbb::filter_mode::serial_in_order,
-                                     [&](tbb::flow_control& fc) -> size_t {
-                                       if (next == count) fc.stop();
-                                       return next < count ? next++ : 0;
-                                     }) &
-          tbb::make_filter<size_t, size_t>(tbb::filter_mode::parallel,
-                                            [&](size_t c) {
-                                              trace(c, slot[c % slots]);
-                                              return c;
-                                            }) &
-          tbb::make_filter<size_t, void>(tbb::filter_mode::serial_in_order,
-                                         [&](size_t c) { consume(c, slot[c % slots]); }));
-}
 
 // Recursive order: chunks of pixels with their whole ray trees on the workers.
 void render_recursive_parallel(const Scene& scene, const TracerParams& params,
