@@ -16,15 +16,16 @@ TimedInterleaver::TimedInterleaver(const MemoryImage& image, const CycleParams& 
     : image_(image),
       unit_(timing.unit),
       period_ps_(timing.unit.clock_period_ps),
-      data_line_bytes_(timing.unit.data_line_bytes),
+      data_line_(timing.unit.data_line_bytes),
       dram_(make_dram_backend(timing.dram)),
       slots_(static_cast<size_t>(rays_in_flight)),
       events_(static_cast<uint32_t>(rays_in_flight), /*slot_order=*/true),
       lanes_(timing.unit) {
   if (period_ps_ == 0) throw std::logic_error("timed interleaver: clock period not derived");
+  cycles_per_ps_ = 1.0 / static_cast<double>(period_ps_);
   auto l1_timing = [](L1Timing& t, const L1Params& p) {
     t.hit_cycles = p.hit_cycles;
-    t.line_bytes = p.cache.line_bytes;
+    t.line_size = LineSize(p.cache.line_bytes);
     t.mshrs.resize(p.mshrs);
   };
   l1_timing(node_l1_, timing.node_l1);
@@ -42,7 +43,15 @@ uint64_t TimedInterleaver::dram_read(uint64_t addr, uint32_t bytes, Stream s, ui
   done_.clear();
   dram_->advance(dram_->next_decision_ps(), done_);
   if (done_.size() != 1) throw std::logic_error("timed interleaver: DRAM read not decided");
-  return (done_[0].done_ps + period_ps_ - 1) / period_ps_;
+  return cycle_at_or_after(done_[0].done_ps);
+}
+
+uint64_t TimedInterleaver::cycle_at_or_after(uint64_t ps) const {
+  // An estimate by a product (a division costs tens of cycles), then made exact.
+  uint64_t c = static_cast<uint64_t>(static_cast<double>(ps) * cycles_per_ps_);
+  while (c * period_ps_ < ps) ++c;
+  while (c > 0 && (c - 1) * period_ps_ >= ps) --c;
+  return c;
 }
 
 uint64_t TimedInterleaver::l1_line(L1Timing& l1, uint64_t line, bool in_tags, Stream s,
@@ -71,7 +80,9 @@ uint64_t TimedInterleaver::l1_line(L1Timing& l1, uint64_t line, bool in_tags, St
   }
   ++l1.primary;
   free_mshr->line = line;
-  free_mshr->fill = dram_read(line * l1.line_bytes, l1.line_bytes, s, c + l1.hit_cycles);
+  const uint64_t line_bytes = l1.line_size.bytes;
+  free_mshr->fill = dram_read(line * line_bytes, static_cast<uint32_t>(line_bytes), s,
+                              c + l1.hit_cycles);
   l1.busy_until = std::max(l1.busy_until, free_mshr->fill);
   return free_mshr->fill;
 }
@@ -92,8 +103,9 @@ uint64_t TimedInterleaver::send(Slot& slot, const RayStepLog::Fetch& f, uint64_t
   }
   const bool node = stream == Stream::kNode;
   L1Timing* l1 = node ? &node_l1_ : data_cache_.get();
-  const uint64_t line_bytes = l1 ? l1->line_bytes : data_line_bytes_;
-  const uint64_t first = f.addr / line_bytes, last = (f.addr + f.bytes - 1) / line_bytes;
+  const LineSize& size = l1 ? l1->line_size : data_line_;
+  const uint64_t line_bytes = size.bytes;
+  const uint64_t first = size.line(f.addr), last = size.line(f.addr + f.bytes - 1);
   uint64_t ready = t;
   if (!l1) {  // straight to DRAM: one request per line touched, as the unit sends them
     account();

@@ -22,6 +22,7 @@
 // A ray's traversal does not depend on the order, so a batch's rays are traversed first, in
 // chunks on every thread (RayStepLog), and the model goes over their records on one thread.
 #pragma once
+#include <bit>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -68,10 +69,18 @@ class TimedInterleaver {
     Phase phase = Phase::kStep;
     uint64_t dram_bytes = 0;      // of the current ray, charged when it ends
   };
+  // A line size (or a clock period): the line number of a byte address by a shift when the
+  // size is a power of two, else by a division.
+  struct LineSize {
+    uint64_t bytes = 64;
+    int shift = 6;  // -1: not a power of two
+    explicit LineSize(uint64_t b = 64) : bytes(b), shift(std::has_single_bit(b) ? std::countr_zero(b) : -1) {}
+    uint64_t line(uint64_t addr) const { return shift >= 0 ? addr >> shift : addr / bytes; }
+  };
   // One L1's timing: MSHRs (line, fill cycle) and the lookup port.
   struct L1Timing {
     uint32_t hit_cycles = 1;
-    uint32_t line_bytes = 64;
+    LineSize line_size;
     struct Mshr {
       uint64_t line = ~uint64_t{0};
       uint64_t fill = 0;  // busy before this cycle
@@ -99,11 +108,14 @@ class TimedInterleaver {
   uint64_t l1_line(L1Timing& l1, uint64_t line, bool in_tags, Stream s, uint64_t t);
   // The cycle a DRAM read of `bytes` at `addr` sent at cycle t completes.
   uint64_t dram_read(uint64_t addr, uint32_t bytes, Stream s, uint64_t t);
+  // The first cycle boundary at or after `ps`.
+  uint64_t cycle_at_or_after(uint64_t ps) const;
 
   const MemoryImage& image_;
   UnitParams unit_;
   uint64_t period_ps_;
-  uint32_t data_line_bytes_;
+  double cycles_per_ps_;
+  LineSize data_line_;  // lists and triangles straight to DRAM: its bursts
   L1Timing node_l1_;
   std::unique_ptr<L1Timing> data_cache_;  // nullptr: lists and triangles straight to DRAM
   std::unique_ptr<DramBackend> dram_;
