@@ -19,7 +19,7 @@ TimedInterleaver::TimedInterleaver(const MemoryImage& image, const CycleParams& 
       data_line_(timing.unit.data_line_bytes),
       dram_(make_dram_backend(timing.dram)),
       slots_(static_cast<size_t>(rays_in_flight)),
-      events_(static_cast<uint32_t>(rays_in_flight), /*slot_order=*/true),
+      events_(static_cast<uint32_t>(rays_in_flight)),
       lanes_(timing.unit) {
   if (period_ps_ == 0) throw std::logic_error("timed interleaver: clock period not derived");
   cycles_per_ps_ = 1.0 / static_cast<double>(period_ps_);
@@ -179,9 +179,10 @@ void TimedInterleaver::run(const RayStepLog& log, bool last, Sink& sink, FetchCa
       s.pixel = pixel;
       s.phase = Phase::kStep;
       s.dram_bytes = 0;
-      events_.push(t, slot);
+      events_.set(slot, t);
       return true;
     }
+    events_.clear(slot);
     return last;
   };
   // The ray in `slot` ends at cycle t: false when its slot waits for the next log.
@@ -202,7 +203,7 @@ void TimedInterleaver::run(const RayStepLog& log, bool last, Sink& sink, FetchCa
   }
   while (!events_.empty()) {
     uint64_t t;
-    const uint32_t slot = events_.pop(t);
+    const uint32_t slot = events_.take(t);
     Slot& s = slots_[slot];
     const uint64_t* const words = s.words.data();
     const uint64_t* p = words + s.pos;
@@ -220,7 +221,7 @@ void TimedInterleaver::run(const RayStepLog& log, bool last, Sink& sink, FetchCa
         s.pos = static_cast<size_t>(p - words);
         const uint64_t decided = send(s, node, c, sink, caches) + unit_.step_cycles;
         if (node.kind == RayStepLog::Kind::kLeaf) s.phase = Phase::kLeafBody;
-        events_.push(decided, slot);
+        events_.set(slot, decided);
         break;
       }
       case Phase::kLeafBody:
@@ -229,7 +230,7 @@ void TimedInterleaver::run(const RayStepLog& log, bool last, Sink& sink, FetchCa
           s.pos = static_cast<size_t>(p - words);
           ready = send(s, list, t, sink, caches);
           s.phase = Phase::kTriangles;
-          events_.push(ready, slot);
+          events_.set(slot, ready);
           break;
         }
         [[fallthrough]];
@@ -244,7 +245,7 @@ void TimedInterleaver::run(const RayStepLog& log, bool last, Sink& sink, FetchCa
         s.pos = static_cast<size_t>(p - words);
         if (s.tests > 0) {
           s.phase = Phase::kIsect;
-          events_.push(ready, slot);
+          events_.set(slot, ready);
           break;
         }
         [[fallthrough]];  // an empty leaf
@@ -254,7 +255,7 @@ void TimedInterleaver::run(const RayStepLog& log, bool last, Sink& sink, FetchCa
           if (!finish(slot, done)) return;
         } else {
           s.phase = Phase::kStep;
-          events_.push(done, slot);
+          events_.set(slot, done);
         }
         break;
       }

@@ -33,9 +33,9 @@
 #include "layout/memory_image.h"
 #include "mem/dram/dram_backend.h"
 #include "model/cycle_params.h"
-#include "model/event_wheel.h"
 #include "model/isect_lanes.h"
 #include "tier/ray_step_log.h"
+#include "tier/slot_event_tree.h"
 #include "tracer/ray_batch.h"
 
 namespace rtusim {
@@ -122,7 +122,7 @@ class TimedInterleaver {
   std::vector<DramCompletion> done_;  // scratch
   uint64_t dram_requests_ = 0;
   std::vector<Slot> slots_;
-  EventWheel events_;  // each busy slot's next event, by cycle, then slot
+  SlotEventTree events_;  // each busy slot's next event, by cycle, then slot
   uint64_t step_free_ = 0;           // the step pipeline's next free cycle
   IsectLanes lanes_;
   uint64_t last_cycle_ = 0;          // the last ray's end so far
