@@ -36,7 +36,7 @@ class SlotEventTree {
   }
 
   // Schedules `slot` at `cycle` (no earlier than the last event taken), replacing its event.
-  void set(uint32_t slot, uint64_t cycle) {
+  [[gnu::always_inline]] void set(uint32_t slot, uint64_t cycle) {
     if (cycle >> (63 - kSlotBits)) [[unlikely]]
       throw std::logic_error("slot event tree: cycle out of range");
     const uint64_t near = cycle < now_ + kFarCycles;
@@ -47,7 +47,7 @@ class SlotEventTree {
 
  private:
   static constexpr uint64_t kSlotMask = (uint64_t{1} << kSlotBits) - 1;
-  void update(uint32_t slot, uint64_t key) {
+  [[gnu::always_inline]] void update(uint32_t slot, uint64_t key) {
     size_t i = leaves_ + slot;
     key_[i] = key;
     for (; i > 1; i >>= 1) {

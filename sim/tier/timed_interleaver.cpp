@@ -26,7 +26,8 @@ TimedInterleaver::TimedInterleaver(const MemoryImage& image, const CycleParams& 
   auto l1_timing = [](L1Timing& t, const L1Params& p) {
     t.hit_cycles = p.hit_cycles;
     t.line_size = LineSize(p.cache.line_bytes);
-    t.mshrs.resize(p.mshrs);
+    t.mshr_line.assign(p.mshrs, ~uint64_t{0});
+    t.mshr_fill.assign(p.mshrs, 0);
   };
   l1_timing(node_l1_, timing.node_l1);
   if (timing.data_cache) {
@@ -54,37 +55,26 @@ uint64_t TimedInterleaver::cycle_at_or_after(uint64_t ps) const {
   return c;
 }
 
-uint64_t TimedInterleaver::l1_line(L1Timing& l1, uint64_t line, bool in_tags, Stream s,
-                                   uint64_t t) {
-  uint64_t c = std::max(t, l1.port_free);
-  L1Timing::Mshr* free_mshr = &l1.mshrs[0];
-  if (c < l1.busy_until) {  // some MSHR is busy: a merge, or a search for a free one
-    free_mshr = nullptr;
-    for (L1Timing::Mshr& m : l1.mshrs) {
-      if (c < m.fill && m.line == line) {  // merged: answered at the pending fill
-        l1.port_free = c + 1;
-        ++l1.merged;
-        return m.fill;
-      }
-      if (m.fill <= c && !free_mshr) free_mshr = &m;
-    }
-  }
-  l1.port_free = c + 1;
-  if (in_tags) return c + l1.hit_cycles;
-  if (!free_mshr) {  // the port waits for the earliest fill
-    free_mshr = &*std::min_element(l1.mshrs.begin(), l1.mshrs.end(),
-                                   [](const auto& a, const auto& b) { return a.fill < b.fill; });
-    l1.stall_cycles += free_mshr->fill - c;
-    c = free_mshr->fill;
+uint64_t TimedInterleaver::l1_miss(L1Timing& l1, uint64_t line, Stream s, uint64_t c) {
+  // The first free MSHR; with none the port waits for the earliest fill.
+  const size_t mshrs = l1.mshr_fill.size();
+  size_t m = 0;
+  while (m < mshrs && l1.mshr_fill[m] > c) ++m;
+  if (m == mshrs) {
+    m = static_cast<size_t>(std::min_element(l1.mshr_fill.begin(), l1.mshr_fill.end()) -
+                            l1.mshr_fill.begin());
+    l1.stall_cycles += l1.mshr_fill[m] - c;
+    c = l1.mshr_fill[m];
     l1.port_free = c + 1;
   }
   ++l1.primary;
-  free_mshr->line = line;
+  l1.mshr_line[m] = line;
   const uint64_t line_bytes = l1.line_size.bytes;
-  free_mshr->fill = dram_read(line * line_bytes, static_cast<uint32_t>(line_bytes), s,
-                              c + l1.hit_cycles);
-  l1.busy_until = std::max(l1.busy_until, free_mshr->fill);
-  return free_mshr->fill;
+  const uint64_t fill = dram_read(line * line_bytes, static_cast<uint32_t>(line_bytes), s,
+                                  c + l1.hit_cycles);
+  l1.mshr_fill[m] = fill;
+  l1.busy_until = std::max(l1.busy_until, fill);
+  return fill;
 }
 
 template <class Sink>
@@ -124,6 +114,21 @@ uint64_t TimedInterleaver::send(Slot& slot, const RayStepLog::Fetch& f, uint64_t
     ready = std::max(ready, l1_line(*l1, line, tags.contains(line * line_bytes), stream, t));
   account();
   return ready;
+}
+
+template <class Sink>
+uint64_t TimedInterleaver::send_node(Slot& slot, const RayStepLog::Fetch& f, uint64_t t,
+                                     Sink& sink, const FetchCache& caches) {
+  const LineSize& size = node_l1_.line_size;
+  const uint64_t line = size.line(f.addr);
+  if (f.bytes == 0 || size.line(f.addr + f.bytes - 1) != line) [[unlikely]]
+    return send(slot, f, t, sink, caches);
+  // One line: the access says whether it was in the tags; only the node stream's bytes change.
+  const StreamCounters& counters = caches.stream(Stream::kNode);
+  const uint64_t misses = counters.misses, dram_bytes = counters.dram_bytes;
+  sink.fetch(Stream::kNode, f.addr, f.bytes);
+  slot.dram_bytes += counters.dram_bytes - dram_bytes;
+  return l1_line(node_l1_, line, counters.misses == misses, Stream::kNode, t);
 }
 
 namespace {
@@ -175,7 +180,8 @@ void TimedInterleaver::run(const RayStepLog& log, bool last, Sink& sink, FetchCa
       if (words.empty()) continue;  // misses the scene's bounds: no step at all
       Slot& s = slots_[slot];
       s.words.assign(words.begin(), words.end());
-      s.pos = 0;
+      s.next = s.words.data();
+      s.end = s.next + s.words.size();
       s.pixel = pixel;
       s.phase = Phase::kStep;
       s.dram_bytes = 0;
@@ -205,30 +211,26 @@ void TimedInterleaver::run(const RayStepLog& log, bool last, Sink& sink, FetchCa
     uint64_t t;
     const uint32_t slot = events_.take(t);
     Slot& s = slots_[slot];
-    const uint64_t* const words = s.words.data();
-    const uint64_t* p = words + s.pos;
-    const uint64_t* const end = words + s.words.size();
+    if (s.phase == Phase::kStep) [[likely]] {
+      const uint64_t c = std::max(t, step_free_);  // the step pipeline: one step a cycle
+      step_free_ = c + 1;
+      if (s.next == s.end) [[unlikely]] {  // not reached: rays end after their leaf
+        if (!finish(slot, c)) return;
+        continue;
+      }
+      const RayStepLog::Fetch node = RayStepLog::next(s.next);
+      const uint64_t decided = send_node(s, node, c, sink, caches) + unit_.step_cycles;
+      if (node.kind == RayStepLog::Kind::kLeaf) s.phase = Phase::kLeafBody;
+      events_.set(slot, decided);
+      continue;
+    }
     uint64_t ready;
     switch (s.phase) {
-      case Phase::kStep: {
-        const uint64_t c = std::max(t, step_free_);  // the step pipeline: one step a cycle
-        step_free_ = c + 1;
-        if (p == end) {  // not reached: rays end after their leaf
-          if (!finish(slot, c)) return;
-          break;
-        }
-        const RayStepLog::Fetch node = RayStepLog::next(p);
-        s.pos = static_cast<size_t>(p - words);
-        const uint64_t decided = send(s, node, c, sink, caches) + unit_.step_cycles;
-        if (node.kind == RayStepLog::Kind::kLeaf) s.phase = Phase::kLeafBody;
-        events_.set(slot, decided);
+      case Phase::kStep:  // above
         break;
-      }
       case Phase::kLeafBody:
-        if (p != end && RayStepLog::kind(*p) == RayStepLog::Kind::kList) {
-          const RayStepLog::Fetch list = RayStepLog::next(p);
-          s.pos = static_cast<size_t>(p - words);
-          ready = send(s, list, t, sink, caches);
+        if (s.next != s.end && RayStepLog::kind(*s.next) == RayStepLog::Kind::kList) {
+          ready = send(s, RayStepLog::next(s.next), t, sink, caches);
           s.phase = Phase::kTriangles;
           events_.set(slot, ready);
           break;
@@ -238,11 +240,10 @@ void TimedInterleaver::run(const RayStepLog& log, bool last, Sink& sink, FetchCa
         // The rest of the leaf's fetches, all sent at once; each is a test in the lanes.
         ready = t;
         s.tests = 0;
-        while (p != end && !RayStepLog::is_node(*p)) {
-          ready = std::max(ready, send(s, RayStepLog::next(p), t, sink, caches));
+        while (s.next != s.end && !RayStepLog::is_node(*s.next)) {
+          ready = std::max(ready, send(s, RayStepLog::next(s.next), t, sink, caches));
           ++s.tests;
         }
-        s.pos = static_cast<size_t>(p - words);
         if (s.tests > 0) {
           s.phase = Phase::kIsect;
           events_.set(slot, ready);
@@ -251,7 +252,7 @@ void TimedInterleaver::run(const RayStepLog& log, bool last, Sink& sink, FetchCa
         [[fallthrough]];  // an empty leaf
       case Phase::kIsect: {
         const uint64_t done = lanes_.book(s.tests, t);
-        if (p == end) {
+        if (s.next == s.end) {
           if (!finish(slot, done)) return;
         } else {
           s.phase = Phase::kStep;

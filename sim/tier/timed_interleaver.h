@@ -22,6 +22,7 @@
 // A ray's traversal does not depend on the order, so a batch's rays are traversed first, in
 // chunks on every thread (RayStepLog), and the model goes over their records on one thread.
 #pragma once
+#include <algorithm>
 #include <bit>
 #include <cstdint>
 #include <functional>
@@ -63,7 +64,8 @@ class TimedInterleaver {
   enum class Phase : uint8_t { kStep, kLeafBody, kTriangles, kIsect };
   struct Slot {
     std::vector<uint64_t> words;  // the ray's steps (RayStepLog), copied from its log
-    size_t pos = 0;               // the next fetch's first word
+    const uint64_t* next = nullptr;  // in words: the next fetch's first word
+    const uint64_t* end = nullptr;
     uint32_t pixel = 0;
     uint32_t tests = 0;           // of the current leaf
     Phase phase = Phase::kStep;
@@ -81,11 +83,8 @@ class TimedInterleaver {
   struct L1Timing {
     uint32_t hit_cycles = 1;
     LineSize line_size;
-    struct Mshr {
-      uint64_t line = ~uint64_t{0};
-      uint64_t fill = 0;  // busy before this cycle
-    };
-    std::vector<Mshr> mshrs;
+    std::vector<uint64_t> mshr_line;  // per MSHR: its line
+    std::vector<uint64_t> mshr_fill;  // per MSHR: its fill's cycle (busy before it)
     uint64_t port_free = 0;
     uint64_t busy_until = 0;  // the latest fill: no MSHR is busy from here on
     uint64_t primary = 0, merged = 0, stall_cycles = 0;
@@ -103,9 +102,32 @@ class TimedInterleaver {
   template <class Sink>
   uint64_t send(Slot& slot, const RayStepLog::Fetch& f, uint64_t t, Sink& sink,
                 const FetchCache& caches);
+  // send() of a node fetch, its one-line case inlined.
+  template <class Sink>
+  [[gnu::always_inline]] inline uint64_t send_node(Slot& slot, const RayStepLog::Fetch& f, uint64_t t,
+                                            Sink& sink, const FetchCache& caches);
   // The cycle line number `line` (in the tags before the access: `in_tags`) looked up in `l1`
   // from cycle t is there.
-  uint64_t l1_line(L1Timing& l1, uint64_t line, bool in_tags, Stream s, uint64_t t);
+  [[gnu::always_inline]] uint64_t l1_line(L1Timing& l1, uint64_t line, bool in_tags, Stream s,
+                                          uint64_t t) {
+    const uint64_t c = std::max(t, l1.port_free);
+    l1.port_free = c + 1;
+    if (c < l1.busy_until) {  // some MSHR is busy: a merge answers at its pending fill
+      uint64_t merged_fill = 0;  // a busy MSHR's fill is after c >= 0: 0 is none
+      for (size_t i = 0; i < l1.mshr_line.size(); ++i)
+        merged_fill = c < l1.mshr_fill[i] && l1.mshr_line[i] == line ? l1.mshr_fill[i]
+                                                                      : merged_fill;
+      if (merged_fill) {
+        ++l1.merged;
+        return merged_fill;
+      }
+    }
+    if (in_tags) [[likely]]
+      return c + l1.hit_cycles;
+    return l1_miss(l1, line, s, c);
+  }
+  // A primary miss of `line` in `l1` looked up at cycle c: the cycle its fill is there.
+  uint64_t l1_miss(L1Timing& l1, uint64_t line, Stream s, uint64_t c);
   // The cycle a DRAM read of `bytes` at `addr` sent at cycle t completes.
   uint64_t dram_read(uint64_t addr, uint32_t bytes, Stream s, uint64_t t);
   // The first cycle boundary at or after `ps`.
