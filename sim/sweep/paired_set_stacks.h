@@ -31,48 +31,52 @@ class PairedSetStacks {
   // Accesses `line` in every set count the walk reaches: adds 1 to hist[e * kStride + d] for each
   // set count e walked, d its distance (depth when deeper); returns the first set count not
   // walked (size() when all were), where the line was the most recent.
-  size_t access(uint64_t line, uint64_t* hist) {
+  size_t access(uint64_t line, uint64_t* __restrict hist) {
     const auto tag = static_cast<uint32_t>(line);
-    for (size_t e = 0; e < engine_.size(); e += 2) {
-      const Engine& a = engine_[e];
-      const Engine& b = engine_[e + 1];
-      uint32_t* sa = stacks_ + a.offset + (line & a.mask) * kMaxDepth;
-      uint32_t* sb = stacks_ + b.offset + (line & b.mask) * kMaxDepth;
+    for (size_t p = 0; p < pair_.size(); ++p) {
+      const Pair& q = pair_[p];
+      uint32_t* sa = q.a + (tag & q.mask_a) * kMaxDepth;
+      uint32_t* sb = q.b + (tag & q.mask_b) * kMaxDepth;
       uint32_t da, db;
-      access_pair(sa, sb, tag, a.depth, b.depth, da, db);
-      ++hist[e * kStride + da];
-      ++hist[(e + 1) * kStride + db];
-      if (db == 0) return e + 2;
+      access_pair(sa, sb, tag, q, da, db);
+      ++hist[2 * p * kStride + da];
+      ++hist[(2 * p + 1) * kStride + db];
+      if (db == 0) return 2 * p + 2;
     }
-    return engine_.size();
+    return 2 * pair_.size();
   }
 
   // Set counts walked, with one of a single set appended when the count is odd.
-  size_t size() const { return engine_.size(); }
+  size_t size() const { return 2 * pair_.size(); }
 
  private:
   static constexpr uint32_t kEmpty = ~uint32_t{0};  // never a line number (lines < 2^32 - 1)
-  struct Engine {
-    size_t offset;  // first entry of its sets in stacks_
-    uint64_t mask;  // sets - 1
-    uint32_t depth;
+  // Two set counts walked in one step: their first sets, set masks, and per half the bit just
+  // above its depth (1 << depth) and, in `lanes`, the lanes below its depth.
+  struct Pair {
+    uint32_t* a;
+    uint32_t* b;
+    uint32_t mask_a, mask_b;
+    uint32_t beyond_a, beyond_b;
+    uint32_t lanes;
   };
 
   // Finds `tag` in both sets and moves it to the top of each; da, db its distances before.
-  static void access_pair(uint32_t* sa, uint32_t* sb, uint32_t tag, uint32_t depth_a,
-                          uint32_t depth_b, uint32_t& da, uint32_t& db) {
+  static void access_pair(uint32_t* sa, uint32_t* sb, uint32_t tag, const Pair& q, uint32_t& da,
+                          uint32_t& db) {
 #if defined(__AVX512F__)
     const __m512i key = _mm512_set1_epi32(static_cast<int>(tag));
     const __m512i v = _mm512_inserti64x4(
         _mm512_castsi256_si512(_mm256_load_si256(reinterpret_cast<const __m256i*>(sa))),
         _mm256_load_si256(reinterpret_cast<const __m256i*>(sb)), 1);
     const uint32_t found = _mm512_cmpeq_epi32_mask(v, key);
-    da = _tzcnt_u32((found & 0xffu) | (1u << depth_a));
-    db = _tzcnt_u32((found >> 8) | (1u << depth_b));
-    // Lanes 0..moved of each half take their upper neighbour's old value, lane 0 the line.
-    const uint32_t moved_a = da < depth_a ? da : depth_a - 1;
-    const uint32_t moved_b = db < depth_b ? db : depth_b - 1;
-    const auto take = static_cast<__mmask16>(((2u << moved_a) - 1) | (((2u << moved_b) - 1) << 8));
+    const uint32_t found_a = found & 0xffu, found_b = found >> 8;
+    da = _tzcnt_u32(found_a | q.beyond_a);
+    db = _tzcnt_u32(found_b | q.beyond_b);
+    // Lanes 0..d of each half (all its lanes on a miss: the mask up to the lowest set bit, all
+    // ones when none) take their upper neighbour's old value, lane 0 the line.
+    const auto take = static_cast<__mmask16>(
+        ((_blsmsk_u32(found_a) & 0xffu) | (_blsmsk_u32(found_b) << 8)) & q.lanes);
     const __m512i up = _mm512_mask_mov_epi32(
         _mm512_permutexvar_epi32(
             _mm512_setr_epi32(0, 0, 1, 2, 3, 4, 5, 6, 8, 8, 9, 10, 11, 12, 13, 14), v),
@@ -81,14 +85,13 @@ class PairedSetStacks {
     _mm256_store_si256(reinterpret_cast<__m256i*>(sa), _mm512_castsi512_si256(out));
     _mm256_store_si256(reinterpret_cast<__m256i*>(sb), _mm512_extracti64x4_epi64(out, 1));
 #else
-    da = lru_stack_access(sa, tag, depth_a);
-    db = lru_stack_access(sb, tag, depth_b);
+    da = lru_stack_access(sa, tag, static_cast<uint32_t>(__builtin_ctz(q.beyond_a)));
+    db = lru_stack_access(sb, tag, static_cast<uint32_t>(__builtin_ctz(q.beyond_b)));
 #endif
   }
 
-  std::vector<Engine> engine_;
+  std::vector<Pair> pair_;
   std::vector<uint32_t> storage_;  // the sets, kMaxDepth entries each, from a 64-byte boundary
-  uint32_t* stacks_ = nullptr;
 };
 
 }  // namespace rtusim
