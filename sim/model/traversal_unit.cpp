@@ -69,12 +69,14 @@ void TraversalUnit::run_batch() {
     for (const MemoryHorizon* m : horizons_) m->call_driven()->set_driven_by_call(true);
   for (uint32_t i = 0; i < slots_.size(); ++i) start_ray(i, t0);
   if (vcd_) trace(t0);
-  uint64_t h = horizon();
-  horizon_moved_ = false;
+  // The horizon, and the first cycle at or after it (kNever: none).
+  uint64_t h = 0, h_cycle = 0;
+  horizon_moved_ = true;
   while (active_ > 0) {
     if (horizon_moved_ || !horizons_report_) {
       horizon_moved_ = false;
       h = horizon();
+      h_cycle = h == MemoryHorizon::kNever ? ~uint64_t{0} : cycle_at_or_after(h);
     }
     // Arrivals before the events of their cycle; both only before the horizon. Taking an
     // arrival touches no memory component, so the horizon holds until an event is processed.
@@ -82,13 +84,13 @@ void TraversalUnit::run_batch() {
     uint64_t next_event = next_event_cycle();
     while (!arrivals_.empty()) {
       uint64_t cycle = arrivals_.top_cycle();
-      if (cycle > next_event || cycle * period_ >= h) break;
+      if (cycle > next_event || cycle >= h_cycle) break;
       const uint32_t slot = arrivals_.pop(cycle);
       last_cycle_ = std::max(last_cycle_, cycle);
       data_ready(slot, cycle);
       next_event = next_event_cycle();
     }
-    if (next_event == ~uint64_t{0} || next_event * period_ >= h) {
+    if (next_event >= h_cycle) {
       // Nothing to do before the memory acts on its own: let the kernel get there.
       if (h == MemoryHorizon::kNever)
         throw std::logic_error("traversal unit: rays wait for memory that has nothing scheduled");
