@@ -24,6 +24,7 @@ L1Cache::L1Cache(const sc_core::sc_module_name& name, const L1Params& p)
       offset_bits_(static_cast<uint32_t>(std::countr_zero(p.cache.line_bytes))),
       line_bytes_(p.cache.line_bytes),
       period_ps_(p.clock_period_ps),
+      cycles_(p.clock_period_ps),
       mshrs_(p.mshrs) {
   for (size_t i = 0; i < mshrs_.size(); ++i) {
     mshrs_[i].tag = new FetchTag;
@@ -68,7 +69,7 @@ bool L1Cache::read_at(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t*
     *done_ps = at_ps;
     return true;
   }
-  const uint64_t t = (at_ps + period_ps_ - 1) / period_ps_;
+  const uint64_t t = cycles_.div_up(at_ps);
   if (!queue_.empty()) advance();  // the downstream may have moved on
   const uint64_t c = std::max(t, next_lookup_);
   if (!queue_.empty() || c * period_ps_ > decidable_ps()) {
@@ -121,11 +122,15 @@ L1Cache::Outcome L1Cache::lookup(const Request& r, uint64_t c, uint64_t* answer_
   // One pass: a busy MSHR for the line (a merge) and the lowest free one.
   Mshr* match = nullptr;
   Mshr* free = nullptr;
-  for (Mshr& m : mshrs_) {
-    if (m.busy_at(c)) {
-      if (m.line == line) match = &m;
-    } else if (!free) {
-      free = &m;
+  if (c >= busy_until_) {  // none busy (the common case): the first is the lowest free one
+    free = &mshrs_.front();
+  } else {
+    for (Mshr& m : mshrs_) {
+      if (m.busy_at(c)) {
+        if (m.line == line) match = &m;
+      } else if (!free) {
+        free = &m;
+      }
     }
   }
   if (!match && !free && !tags_.contains(addr)) return Outcome::kBlocked;
@@ -152,6 +157,7 @@ L1Cache::Outcome L1Cache::lookup(const Request& r, uint64_t c, uint64_t* answer_
   m.line = line;
   m.request_cycle = r.t;
   m.fill_cycle = kUnknown;
+  busy_until_ = kUnknown;
   m.waiters.clear();
   const FetchTag* up = r.trans->get_extension<FetchTag>();
   m.tag->stream = up ? up->stream : Stream::kNode;
@@ -196,20 +202,27 @@ void L1Cache::advance() {
 }
 
 void L1Cache::schedule_wake() {
+  update_horizon();
   if (driven_by_call_) return;
   // An earlier notification overrides a pending later one.
-  const uint64_t h = horizon_ps();
+  const uint64_t h = horizon_ps_;
   if (h != kNever) wake_.notify(ps(h - std::min(h, now_ps())));
 }
 
-uint64_t L1Cache::horizon_ps() const {
-  if (queue_.empty()) return kNever;
-  const Request& r = queue_.front();
-  if (r.blocked_at != kUnknown) {
-    const uint64_t c = first_fill();  // unknown: the downstream's horizon bounds the initiator
-    return c == kUnknown ? kNever : c * period_ps_;
+void L1Cache::update_horizon() {
+  uint64_t h = kNever;
+  if (!queue_.empty()) {
+    const Request& r = queue_.front();
+    if (r.blocked_at != kUnknown) {
+      const uint64_t c = first_fill();  // unknown: the downstream's horizon bounds the initiator
+      h = c == kUnknown ? kNever : c * period_ps_;
+    } else {
+      h = std::max(r.t, next_lookup_) * period_ps_;
+    }
   }
-  return std::max(r.t, next_lookup_) * period_ps_;
+  if (h == horizon_ps_) return;
+  horizon_ps_ = h;
+  horizon_changed();
 }
 
 void L1Cache::wake() { advance(); }
@@ -230,7 +243,7 @@ tlm::tlm_sync_enum L1Cache::nb_transport_bw(tlm::tlm_generic_payload& trans,
 
 void L1Cache::fill(Mshr& m, uint64_t done_ps) {
   // One fill per cycle: the first cycle at or after the completion that no known fill holds.
-  uint64_t c = (done_ps + period_ps_ - 1) / period_ps_;
+  uint64_t c = cycles_.div_up(done_ps);
   for (bool taken = true; taken;) {
     taken = false;
     for (const Mshr& o : mshrs_)
@@ -245,6 +258,8 @@ void L1Cache::fill(Mshr& m, uint64_t done_ps) {
                            " became known after the lookup at cycle " +
                            std::to_string(next_lookup_ - 1) + " (the downstream decided late)");
   m.fill_cycle = c;
+  busy_until_ = 0;
+  for (const Mshr& o : mshrs_) busy_until_ = std::max(busy_until_, o.fill_cycle);
   ++fills_;
   miss_latency_cycles_ += c - m.request_cycle;
 }

@@ -49,6 +49,7 @@
 #include "cache/cache_params.h"
 #include "mem/l1_params.h"
 #include "cache/set_assoc_cache.h"
+#include "mem/fast_divider.h"
 #include "mem/mem_protocol.h"
 #include "mem/node_l1.h"
 
@@ -81,7 +82,8 @@ class L1Cache : public sc_core::sc_module, public NodeL1, public MemoryHorizon,
   const MemoryHorizon* horizon() const override { return this; }
   // The cycle of the first lookup not decided yet (the initiator must not run past it), or
   // never.
-  uint64_t horizon_ps() const override;
+  uint64_t horizon_ps() const override { return horizon_ps_; }
+  bool reports_changes() const override { return true; }
   // A module is never a const object: the horizon view hands out the module to drive.
   CallDriven* call_driven() const override { return const_cast<L1Cache*>(this); }
   void set_driven_by_call(bool on) override {
@@ -126,7 +128,12 @@ class L1Cache : public sc_core::sc_module, public NodeL1, public MemoryHorizon,
   uint64_t first_fill() const;
   void fill(Mshr& m, uint64_t done_ps);
   void respond(tlm::tlm_generic_payload& trans, uint64_t cycle);
-  void schedule_wake();  // the method runs at the horizon, if any
+  // Recomputes the horizon after the lookup port's state may have changed; tells the watchers
+  // if it moved. Every change that can move it (a request queued, advance()) ends in
+  // schedule_wake(), which calls this; a lookup decided on arrival with nothing queued does not
+  // move it (never, before and after).
+  void update_horizon();
+  void schedule_wake();  // the horizon updated; the method runs there, if any
   void wake();           // SC_METHOD: decides the backlog at its cycle
 
   L1Params p_;
@@ -134,10 +141,13 @@ class L1Cache : public sc_core::sc_module, public NodeL1, public MemoryHorizon,
   uint32_t offset_bits_;
   uint64_t line_bytes_;
   uint64_t period_ps_;
+  FastDivider cycles_;  // picoseconds to cycles
   const MemoryHorizon* downstream_horizon_ = nullptr;
   std::vector<Mshr> mshrs_;
+  uint64_t busy_until_ = 0;  // the latest fill cycle among them (kUnknown: one is not known)
   std::deque<Request> queue_;     // not looked up yet, arrival order
   uint64_t next_lookup_ = 0;      // the port's next free cycle
+  uint64_t horizon_ps_ = kNever;  // as update_horizon() last found it
   sc_core::sc_event wake_;
   bool driven_by_call_ = false;  // the initiator calls act_at_horizon(): no wake-ups
   uint64_t hits_ = 0, primary_ = 0, merged_ = 0, stall_cycles_ = 0;

@@ -17,6 +17,7 @@
 #pragma once
 #include <cstdint>
 #include <limits>
+#include <vector>
 
 #include <systemc>
 #include <tlm>
@@ -69,6 +70,19 @@ class MemoryHorizon {
   // The component as CallDriven, or nullptr if only its own process may act (then an
   // initiator must let the kernel reach the horizon).
   virtual CallDriven* call_driven() const { return nullptr; }
+  // Whether the component sets every watched flag (watch()) whenever its horizon changes, so an
+  // initiator may keep the horizon it last asked for until then; false: ask every time.
+  virtual bool reports_changes() const { return false; }
+  // `flag` is set (never cleared) at each change of the horizon, if reports_changes().
+  void watch(bool* flag) const { watchers_.push_back(flag); }
+
+ protected:
+  void horizon_changed() const {
+    for (bool* f : watchers_) *f = true;
+  }
+
+ private:
+  mutable std::vector<bool*> watchers_;  // watching does not change the component
 };
 
 // Both inline: sc_time_stamp() and sc_time::from_value() are calls into the SystemC library,

@@ -25,6 +25,9 @@ TraversalUnit::TraversalUnit(const sc_core::sc_module_name& name, const UnitPara
       data_socket("data_socket"),
       p_(checked(p)),
       period_(p.clock_period_ps),
+      cycles_(p.clock_period_ps),
+      node_line_(p.node_line_bytes),
+      data_line_(p.data_line_bytes),
       image_(image),
       host_(host),
       slots_(p.rays_in_flight),
@@ -66,21 +69,28 @@ void TraversalUnit::run_batch() {
     for (const MemoryHorizon* m : horizons_) m->call_driven()->set_driven_by_call(true);
   for (uint32_t i = 0; i < slots_.size(); ++i) start_ray(i, t0);
   if (vcd_) trace(t0);
+  // The horizon, and the first cycle at or after it (kNever: none).
+  uint64_t h = 0, h_cycle = 0;
+  horizon_moved_ = true;
   while (active_ > 0) {
-    const uint64_t h = horizon();
+    if (horizon_moved_ || !horizons_report_) {
+      horizon_moved_ = false;
+      h = horizon();
+      h_cycle = h == MemoryHorizon::kNever ? ~uint64_t{0} : cycle_at_or_after(h);
+    }
     // Arrivals before the events of their cycle; both only before the horizon. Taking an
     // arrival touches no memory component, so the horizon holds until an event is processed.
     auto next_event_cycle = [&] { return events_.empty() ? ~uint64_t{0} : events_.top_cycle(); };
     uint64_t next_event = next_event_cycle();
     while (!arrivals_.empty()) {
       uint64_t cycle = arrivals_.top_cycle();
-      if (cycle > next_event || cycle * period_ >= h) break;
+      if (cycle > next_event || cycle >= h_cycle) break;
       const uint32_t slot = arrivals_.pop(cycle);
       last_cycle_ = std::max(last_cycle_, cycle);
       data_ready(slot, cycle);
       next_event = next_event_cycle();
     }
-    if (next_event == ~uint64_t{0} || next_event * period_ >= h) {
+    if (next_event >= h_cycle) {
       // Nothing to do before the memory acts on its own: let the kernel get there.
       if (h == MemoryHorizon::kNever)
         throw std::logic_error("traversal unit: rays wait for memory that has nothing scheduled");
@@ -239,6 +249,9 @@ void TraversalUnit::process(Slot& s, uint32_t index, uint64_t t) {
         return;
       }
       ++steps_;
+      // The ray's next node is read at its next step, some thirty other rays' events later:
+      // bring it into the host's cache meanwhile (no effect on the simulation).
+      __builtin_prefetch(image_.bytes.data() + s.st.node);
       max_stack_ = std::max(max_stack_, s.st.sp);
       if (s.st.sp > static_cast<int>(p_.stack_depth)) ++stack_overflows_;
       s.phase = Phase::kNodeWait;
@@ -289,11 +302,13 @@ void TraversalUnit::issue(uint32_t slot, size_t first, size_t last, uint64_t t) 
     const Fetch& f = s.fetches[i];
     if (f.bytes == 0) continue;
     const bool node = f.stream == Stream::kNode;
-    const uint64_t line = node ? p_.node_line_bytes : p_.data_line_bytes;
+    const FastDivider& lines = node ? node_line_ : data_line_;
+    const uint64_t line = lines.divisor();
     auto& socket = node ? node_socket : data_socket;
     DirectTarget* direct = node ? node_direct_ : data_direct_;
     for (uint64_t a = f.addr; a < f.addr + f.bytes;) {
-      const uint64_t end = std::min<uint64_t>(f.addr + f.bytes, (a / line + 1) * line);
+      const uint64_t line_start = lines.div(a) * line;
+      const uint64_t end = std::min<uint64_t>(f.addr + f.bytes, line_start + line);
       UnitPayload* p;
       if (free_payloads_.empty()) {
         p = &payloads_.emplace_back();
@@ -308,7 +323,7 @@ void TraversalUnit::issue(uint32_t slot, size_t first, size_t last, uint64_t t) 
       tag->owner = slot;
       // One request per line touched, for the whole line: the caches fill lines, and a data
       // path straight to DRAM reads whole bursts (the functional tier's accounting).
-      init_read(*p, a / line * line, static_cast<uint32_t>(line));
+      init_read(*p, line_start, static_cast<uint32_t>(line));
       ++s.pending;
       if (direct) {
         uint64_t done_ps = 0;

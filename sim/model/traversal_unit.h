@@ -34,6 +34,7 @@
 #include <tlm_utils/simple_initiator_socket.h>
 
 #include "layout/memory_image.h"
+#include "mem/fast_divider.h"
 #include "mem/mem_protocol.h"
 #include "model/event_wheel.h"
 #include "model/host_interface.h"
@@ -60,7 +61,13 @@ class TraversalUnit : public sc_core::sc_module {
   SC_HAS_PROCESS(TraversalUnit);
 
   // A memory component whose own activity bounds the unit's run-ahead.
-  void add_horizon(const MemoryHorizon* h) { horizons_.push_back(h); }
+  void add_horizon(const MemoryHorizon* h) {
+    horizons_.push_back(h);
+    if (h->reports_changes())
+      h->watch(&horizon_moved_);
+    else
+      horizons_report_ = false;
+  }
   // The targets bound to node_socket / data_socket, if they take reads by direct call
   // (nullptr: through the socket).
   void set_direct_targets(DirectTarget* node, DirectTarget* data) {
@@ -84,16 +91,18 @@ class TraversalUnit : public sc_core::sc_module {
   };
   using Fetch = RecordedFetch;
   using Recorder = FetchRecorder;
-  struct Slot {
+  // The fields every event touches first, in one cache line; the traversal state (its stack
+  // is a kilobyte) after them.
+  struct alignas(64) Slot {
     bool active = false;
-    uint32_t ray = 0;
+    bool issuing = false;
     Phase phase = Phase::kStep;
     StepKind kind = StepKind::kDone;
-    TraversalState st;
-    std::vector<Fetch> fetches;  // of the current step, in issue order
+    uint32_t ray = 0;
     uint32_t pending = 0;        // line requests outstanding
     uint64_t ready = 0;          // latest data cycle among them
-    bool issuing = false;
+    std::vector<Fetch> fetches;  // of the current step, in issue order
+    TraversalState st;
   };
 
   void run();
@@ -116,14 +125,20 @@ class TraversalUnit : public sc_core::sc_module {
                                      sc_core::sc_time& delay);
   void arrived(tlm::tlm_generic_payload& trans, uint64_t at_ps);
   uint64_t horizon() const;
-  uint64_t cycle_at_or_after(uint64_t t_ps) const { return (t_ps + period_ - 1) / period_; }
+  uint64_t cycle_at_or_after(uint64_t t_ps) const { return cycles_.div_up(t_ps); }
   void trace(uint64_t cycle);  // samples the VCD variables, if any
 
   UnitParams p_;
   uint64_t period_;
+  FastDivider cycles_;                   // picoseconds to cycles
+  FastDivider node_line_, data_line_;    // addresses to node and data lines
   const MemoryImage& image_;
   HostInterface& host_;
   std::vector<const MemoryHorizon*> horizons_;
+  // Every horizon reports its changes (MemoryHorizon::reports_changes): the unit keeps the
+  // last one it computed until a component sets horizon_moved_.
+  bool horizons_report_ = true;
+  bool horizon_moved_ = true;
   DirectTarget* node_direct_ = nullptr;
   DirectTarget* data_direct_ = nullptr;
   std::vector<CallDriven*> due_;  // scratch: components acted for at one horizon

@@ -36,6 +36,7 @@ tlm::tlm_sync_enum Dram::nb_transport_fw(int id, tlm::tlm_generic_payload& trans
   const FetchTag* tag = trans.get_extension<FetchTag>();
   backend_->enqueue({rid, trans.get_address(), trans.get_data_length(),
                      now_ps() + delay.value(), tag ? tag->stream : Stream::kNode});
+  update_horizon();
   schedule_wakeup();
   phase = tlm::END_REQ;
   return tlm::TLM_UPDATED;
@@ -71,6 +72,7 @@ void Dram::decide_at(uint64_t at_ps) {
     const DramCompletion& c = done_[i];
     // Every completion comes after its decision time, so this is at or after at_ps.
     unanswered_ps_ = later_done_ps_[i] == kNever ? kNever : later_done_ps_[i] - 1;
+    update_horizon();
     const Pending p = pending_[c.id];
     free_ids_.push_back(c.id);
     p.trans->set_response_status(tlm::TLM_OK_RESPONSE);
@@ -79,6 +81,7 @@ void Dram::decide_at(uint64_t at_ps) {
     target_socket[p.socket_id]->nb_transport_bw(*p.trans, phase, delay);  // END_RESP implied
   }
   unanswered_ps_ = kNever;
+  update_horizon();
   schedule_wakeup();
 }
 

@@ -37,9 +37,8 @@ class Dram : public sc_core::sc_module, public MemoryHorizon, public CallDriven 
 
   SC_HAS_PROCESS(Dram);
 
-  uint64_t horizon_ps() const override {
-    return std::min(backend_->next_decision_ps(), unanswered_ps_);
-  }
+  uint64_t horizon_ps() const override { return horizon_ps_; }
+  bool reports_changes() const override { return true; }
   // A module is never a const object: the horizon view hands out the module to drive.
   CallDriven* call_driven() const override { return const_cast<Dram*>(this); }
   void set_driven_by_call(bool on) override {
@@ -68,6 +67,15 @@ class Dram : public sc_core::sc_module, public MemoryHorizon, public CallDriven 
   std::vector<DramCompletion> done_;  // scratch
   std::vector<uint64_t> later_done_ps_;  // scratch: per answer, the earliest completion after it
   uint64_t unanswered_ps_ = kNever;  // just before the earliest decided completion not answered
+  // The backend's next decision or unanswered_ps_, whichever is first: kept up to date at each
+  // change of either (the initiators ask for it several times per fetch).
+  uint64_t horizon_ps_ = kNever;
+  void update_horizon() {
+    const uint64_t h = std::min(backend_->next_decision_ps(), unanswered_ps_);
+    if (h == horizon_ps_) return;
+    horizon_ps_ = h;
+    horizon_changed();
+  }
   sc_core::sc_event wake_;
   bool driven_by_call_ = false;  // the initiator calls act_at_horizon(): no wake-ups
   bool wake_pending_ = false;  // wake_ is notified for wake_ps_

@@ -10,16 +10,21 @@ namespace rtusim {
 FrFcfsDram::FrFcfsDram(const DramParams& p)
     : p_(p), tRCD_(p.tRCD_ps()), tRP_(p.tRP_ps()), tCL_(p.tCL_ps()), tBurst_(p.burst_ps()) {
   validate(p, "dram");
+  row_ = FastDivider(p.row_bytes);
+  channel_ = FastDivider(p.channels);
+  bank_ = FastDivider(p.banks);
+  burst_ = FastDivider(p.burst_bytes());
   channels_.resize(p.channels);
   for (Channel& c : channels_) c.banks.resize(p.banks);
 }
 
 FrFcfsDram::Location FrFcfsDram::locate(uint64_t addr) const {
-  const uint64_t chunk = addr / p_.row_bytes;
+  const uint64_t chunk = row_.div(addr);
+  const uint64_t per_channel = channel_.div(chunk);
   Location l;
-  l.channel = static_cast<uint32_t>(chunk % p_.channels);
-  l.bank = static_cast<uint32_t>((chunk / p_.channels) % p_.banks);
-  l.row = chunk / (uint64_t{p_.channels} * p_.banks);
+  l.channel = static_cast<uint32_t>(chunk - per_channel * p_.channels);
+  l.bank = static_cast<uint32_t>(bank_.mod(per_channel));
+  l.row = bank_.div(per_channel);
   return l;
 }
 
@@ -30,14 +35,9 @@ void FrFcfsDram::enqueue(const DramRequest& r) {
   next_decision_ps_ = std::min(next_decision_ps_, eligible_at(c, c.queue.back()));
 }
 
-void FrFcfsDram::recompute_next_decision() {
-  next_decision_ps_ = kNever;
-  for (const Channel& c : channels_)
-    for (const Queued& q : c.queue) next_decision_ps_ = std::min(next_decision_ps_, eligible_at(c, q));
-}
-
 void FrFcfsDram::advance(uint64_t now_ps, std::vector<DramCompletion>& out) {
   if (next_decision_ps_ > now_ps) return;
+  uint64_t next_decision = kNever;  // found by each channel's last scan
   for (Channel& c : channels_) {
     for (;;) {
       // FR-FCFS over the requests that can start now: row hits first, then age. Equal arrival
@@ -46,16 +46,24 @@ void FrFcfsDram::advance(uint64_t now_ps, std::vector<DramCompletion>& out) {
       auto age = [](const Queued& x) { return std::tie(x.req.arrival_ps, x.req.addr, x.seq); };
       int best = -1;
       bool best_hit = false;
+      uint64_t later = kNever;  // the earliest time a request not eligible now becomes so
       for (size_t i = 0; i < c.queue.size(); ++i) {
         const Queued& q = c.queue[i];
-        if (eligible_at(c, q) > now_ps) continue;
+        const uint64_t at = eligible_at(c, q);
+        if (at > now_ps) {
+          later = std::min(later, at);
+          continue;
+        }
         const bool hit = c.banks[q.loc.bank].open_row == q.loc.row;
         if (best < 0 || (hit && !best_hit) || (hit == best_hit && age(q) < age(c.queue[best]))) {
           best = static_cast<int>(i);
           best_hit = hit;
         }
       }
-      if (best < 0) break;
+      if (best < 0) {  // the channel's next decision: every request left waits
+        next_decision = std::min(next_decision, later);
+        break;
+      }
       const Queued q = c.queue[best];
       c.queue[best] = c.queue.back();
       c.queue.pop_back();
@@ -72,7 +80,7 @@ void FrFcfsDram::advance(uint64_t now_ps, std::vector<DramCompletion>& out) {
         ++row_conflicts_;
         column += tRP_ + tRCD_;
       }
-      const uint32_t bursts = std::max<uint32_t>(1, (q.req.bytes + p_.burst_bytes() - 1) / p_.burst_bytes());
+      const uint32_t bursts = std::max<uint32_t>(1, burst_.div_up(q.req.bytes));
       const uint64_t data_start = std::max(column + tCL_, c.bus_free_ps);
       const uint64_t done = data_start + bursts * tBurst_;
       c.bus_free_ps = done;
@@ -83,7 +91,7 @@ void FrFcfsDram::advance(uint64_t now_ps, std::vector<DramCompletion>& out) {
       out.push_back({q.req.id, done});
     }
   }
-  recompute_next_decision();
+  next_decision_ps_ = next_decision;
 }
 
 void FrFcfsDram::write_stats(Stats& stats, const std::string& prefix) const {

@@ -16,6 +16,7 @@
 
 #include "mem/dram/dram_backend.h"
 #include "mem/dram/dram_params.h"
+#include "mem/fast_divider.h"
 
 namespace rtusim {
 
@@ -61,10 +62,10 @@ class FrFcfsDram final : public DramBackend {
   uint64_t eligible_at(const Channel& c, const Queued& q) const {
     return std::max(q.req.arrival_ps, c.banks[q.loc.bank].ready_ps);
   }
-  void recompute_next_decision();
 
   DramParams p_;
   uint64_t tRCD_, tRP_, tCL_, tBurst_;
+  FastDivider row_, channel_, bank_, burst_;  // address to row, channel, bank; bytes to bursts
   std::vector<Channel> channels_;
   uint64_t next_decision_ps_ = kNever;
   uint64_t seq_ = 0;
