@@ -12,6 +12,7 @@
 #include "kdtree/kd_tree.h"
 #include "layout/memory_image.h"
 #include "layout/node_view.h"
+#include "traversal/leaf_chunk_avx512.h"
 #include "traversal/watertight_triangle.h"
 
 namespace rtusim {
@@ -163,32 +164,115 @@ struct PackedFloats {
   }
 };
 
+// One triangle's watertight test (`test(t_limit, t, u, v)`) within the hit found so far;
+// records a hit and returns true on one.
+template <class Test>
+[[gnu::always_inline]] inline bool record_hit(Hit& hit, float ray_t_max, uint32_t tri, Test&& test) {
+  float t, bu, bv;
+  if (!test(std::min(hit.t, ray_t_max), t, bu, bv)) return false;
+  hit = {t, tri, bu, bv};
+  return true;
+}
+
+// A leaf's triangle id `i`, from its node or its list.
+[[gnu::always_inline]] inline uint32_t leaf_triangle(const MemoryImage& image, const NodeView& n,
+                                                     uint32_t i) {
+  uint32_t tri = n.inline_prim;
+  if (n.prim_count > 1) std::memcpy(&tri, image.bytes.data() + n.list_addr + 4ull * i, sizeof tri);
+  return tri;
+}
+
+// Tests a leaf's triangles one by one, each fetched (reported) just before its test. Sets
+// leaf_prims_tested; true when the ray is done (any-hit mode).
+template <class Sink>
+[[gnu::always_inline]] inline bool leaf_triangles_scalar(TraversalState& s, const MemoryImage& image,
+                                                         const NodeView& n, Sink& sink) {
+  for (uint32_t i = 0; i < n.prim_count; ++i) {
+    const uint32_t tri = leaf_triangle(image, n, i);
+    const uint64_t ta = image.triangle_addr(tri);
+    sink.fetch(Stream::kTriangle, ta, MemoryImage::kTriangleBytes);
+    const PackedFloats v{image.bytes.data() + ta};
+    if (record_hit(s.hit, s.ray.t_max, tri, [&](float t_limit, float& t, float& bu, float& bv) {
+          return intersect_watertight(s.wray, v, t_limit, t, bu, bv);
+        }) && s.any_hit) {
+      s.leaf_prims_tested = i + 1;
+      return true;
+    }
+  }
+  s.leaf_prims_tested = n.prim_count;
+  return false;
+}
+
+#if defined(__AVX512F__)
+// Leaves of at least this many triangles are tested 16 at a time.
+constexpr uint32_t kChunkMinPrims = 4;
+
+// What a leaf's triangles leave: the hit so far, how many were tested, whether the ray is done.
+struct LeafOutcome {
+  Hit hit;
+  uint32_t tested;
+  bool done;
+};
+
+// The same as leaf_triangles_scalar(), 16 triangles at a time: each chunk is tested against the
+// hit found before it, then its lanes that may hit are taken in order against the hit so far,
+// as the scalar loop takes them; the fetches are reported in the same order and stop where it
+// stops. Needs an image whose triangle offsets fit in 31 bits (the gathers' indices). Out of
+// line, on copies, so the traversal loop keeps its state in registers.
+template <class Sink>
+[[gnu::noinline]] LeafOutcome leaf_triangles_chunked(const WatertightRay wray, Hit hit,
+                                                     const float ray_t_max, const bool any_hit,
+                                                     const MemoryImage& image, const NodeView n,
+                                                     Sink& sink) {
+  const uint8_t* bytes = image.bytes.data();
+  LeafChunk c;
+  for (uint32_t base = 0; base < n.prim_count; base += LeafChunk::kLanes) {
+    const uint32_t lanes = std::min<uint32_t>(LeafChunk::kLanes, n.prim_count - base);
+    c.test(wray, bytes, image.triangles.base_addr, bytes + n.list_addr + 4ull * base,
+           static_cast<int>(lanes), std::min(hit.t, ray_t_max));
+    uint32_t fetched = 0;  // lanes whose fetch is reported
+    auto fetch_through = [&](uint32_t lane) {
+      for (; fetched <= lane; ++fetched)
+        sink.fetch(Stream::kTriangle, image.triangle_addr(leaf_triangle(image, n, base + fetched)),
+                   MemoryImage::kTriangleBytes);
+    };
+    for (uint32_t todo = c.hit_mask | c.scalar_mask; todo != 0; todo &= todo - 1) {
+      const uint32_t i = static_cast<uint32_t>(__builtin_ctz(todo));
+      fetch_through(i);
+      const uint32_t tri = leaf_triangle(image, n, base + i);
+      const bool found = record_hit(hit, ray_t_max, tri, [&](float t_limit, float& t, float& bu, float& bv) {
+        if (c.scalar_mask >> i & 1u) {
+          const PackedFloats v{bytes + image.triangle_addr(tri)};
+          return intersect_watertight(wray, v, t_limit, t, bu, bv);
+        }
+        return c.accept(static_cast<int>(i), t_limit, t, bu, bv);
+      });
+      if (found && any_hit) return {hit, base + i + 1, true};
+    }
+    fetch_through(lanes - 1);
+  }
+  return {hit, n.prim_count, false};
+}
+#endif
+
 // A leaf's step: fetches its list (if any) and triangles, tests each, then pops or finishes.
 template <class Sink>
 [[gnu::always_inline]] inline void leaf_step(TraversalState& s, const MemoryImage& image,
                                              const NodeView& n, Sink& sink) {
-  const uint8_t* bytes = image.bytes.data();
   if (n.prim_count >= 2) sink.fetch(Stream::kList, n.list_addr, n.prim_count * 4u);
-  for (uint32_t i = 0; i < n.prim_count; ++i) {
-    uint32_t tri = n.inline_prim;
-    if (n.prim_count > 1) std::memcpy(&tri, bytes + n.list_addr + 4ull * i, sizeof tri);
-    const uint64_t ta = image.triangle_addr(tri);
-    sink.fetch(Stream::kTriangle, ta, MemoryImage::kTriangleBytes);
-    const PackedFloats v{bytes + ta};
-    float t, bu, bv;
-    const float t_limit = std::min(s.hit.t, s.ray.t_max);
-    if (intersect_watertight(s.wray, v, t_limit, t, bu, bv)) {
-      s.hit = {t, tri, bu, bv};
-      if (s.any_hit) {
-        s.leaf_prims_tested = i + 1;
-        s.done = true;
-        return;
-      }
-    }
-  }
-  s.leaf_prims_tested = n.prim_count;
+  bool done;
+#if defined(__AVX512F__)
+  if (n.prim_count >= kChunkMinPrims && image.bytes.size() <= 0x7fffffffu) [[unlikely]] {
+    const LeafOutcome o =
+        leaf_triangles_chunked(s.wray, s.hit, s.ray.t_max, s.any_hit, image, n, sink);
+    s.hit = o.hit;
+    s.leaf_prims_tested = o.tested;
+    done = o.done;
+  } else
+#endif
+    done = leaf_triangles_scalar(s, image, n, sink);
   // The ray is finished in this leaf when its hit lies inside the leaf's interval.
-  if (s.hit.t <= s.t_max || !traversal_pop(s)) s.done = true;
+  if (done || s.hit.t <= s.t_max || !traversal_pop(s)) s.done = true;
 }
 }  // namespace detail
 
