@@ -45,6 +45,10 @@ struct TraversalState {
   // Per axis, as plain arrays (a glm::vec3 indexed by a run-time axis is a switch): origin,
   // direction, 1/direction and |1/direction|.
   float org[3] = {0, 0, 0}, dir[3] = {0, 0, 1}, inv_dir[3] = {0, 0, 1}, abs_inv_dir[3] = {0, 0, 1};
+  // Per axis, the origin for the side test: the origin itself where the direction is positive
+  // (or NaN), else the next float below it, so that `org_side < split` says "below first": the
+  // origin is below the plane, or on it and heading down (or parallel).
+  float org_side[3] = {0, 0, 0};
   WatertightRay wray;
   uint64_t node = 0;  // node to visit next
   float t_min = 0.0f, t_max = 0.0f;
@@ -54,6 +58,17 @@ struct TraversalState {
   Hit hit;
   uint32_t leaf_prims_tested = 0;  // of the last leaf step: triangles intersected
 };
+
+// The largest float below x (std::nextafter(x, -inf) without the library call).
+inline float next_float_down(float x) {
+  if (x == 0.0f) return -std::numeric_limits<float>::denorm_min();
+  if (x == -std::numeric_limits<float>::infinity() || std::isnan(x)) return x;
+  uint32_t b;
+  std::memcpy(&b, &x, sizeof b);
+  b = x > 0.0f ? b - 1 : b + 1;
+  std::memcpy(&x, &b, sizeof b);
+  return x;
+}
 
 // Starts a ray: clips it to the scene bounds; a ray that misses them is done at once.
 inline void traversal_begin(TraversalState& s, const MemoryImage& image, const Ray& ray,
@@ -70,6 +85,7 @@ inline void traversal_begin(TraversalState& s, const MemoryImage& image, const R
     s.dir[a] = ray.dir[a];
     s.inv_dir[a] = 1.0f / ray.dir[a];  // +-inf for a zero component, handled below
     s.abs_inv_dir[a] = std::abs(s.inv_dir[a]);
+    s.org_side[a] = ray.dir[a] <= 0.0f ? next_float_down(ray.origin[a]) : ray.origin[a];
     const float o = ray.origin[a];
     if (ray.dir[a] == 0.0f) {
       if (o < image.bounds_min[a] || o > image.bounds_max[a]) t1 = -1.0f;
@@ -109,9 +125,7 @@ namespace detail {
   // node's fetch need not wait for the arithmetic below), and where the ray crosses the plane.
   const int a = n.axis;
   const float o = s.org[a], d = s.dir[a];
-  bool below_first = o < n.split;
-  if (o == n.split) [[unlikely]]
-    below_first = d <= 0.0f;
+  const bool below_first = s.org_side[a] < n.split;
   const uint64_t near = below_first ? n.below_addr : n.above_addr;
   const uint64_t far = below_first ? n.above_addr : n.below_addr;
   const float t_plane = (n.split - o) * s.inv_dir[a];
@@ -131,15 +145,18 @@ namespace detail {
   // A ray parallel to the plane (or 0 * inf) lands here or goes near above, where the parallel
   // case would have sent it too: t_plane is NaN (every comparison false), +inf (slack is +inf,
   // so t_plane - slack is NaN) or -inf (t_plane <= 0, and the origin is off the plane).
-  if (d == 0.0f || std::isnan(t_plane)) [[unlikely]] {
-    // Parallel to the plane: a ray in the plane sees both sides, else one.
-    if (o == n.split) {
-      s.stack[s.sp++] = {n.above_addr, s.t_min, s.t_max};
-      s.node = n.below_addr;
-    } else {
-      s.node = near;
+  // Here d == 0 makes t_plane +inf or NaN, so one cheap test on t_plane guards the exact one.
+  if (!(t_plane < std::numeric_limits<float>::infinity())) [[unlikely]] {
+    if (d == 0.0f || std::isnan(t_plane)) {
+      // Parallel to the plane: a ray in the plane sees both sides, else one.
+      if (o == n.split) {
+        s.stack[s.sp++] = {n.above_addr, s.t_min, s.t_max};
+        s.node = n.below_addr;
+      } else {
+        s.node = near;
+      }
+      return;
     }
-    return;
   }
   s.stack[s.sp++] = {far, std::max(s.t_min, t_plane - slack), s.t_max};
   s.node = near;
