@@ -90,41 +90,48 @@ void compare(const Triangles& tris, const float* o, const float* d, float t_limi
   }
 }
 
-TEST(LeafChunkTest, RandomTrianglesMatchTheScalarTestBitForBit) {
-  std::mt19937 rng(11);
+// 300 leaves of 1..40 random triangles (coarse or fine coordinates), 20 rays each from
+// `make_ray(rng, tris, ray, o, d)`, which returns the ray's limit.
+template <class MakeRay>
+Counts compare_rounds(uint32_t seed, bool coarse, MakeRay make_ray) {
+  std::mt19937 rng(seed);
   Counts n;
   for (int round = 0; round < 300; ++round) {
-    const Triangles tris = random_triangles(rng, 1 + static_cast<int>(rng() % 40), false);
+    const Triangles tris = random_triangles(rng, 1 + static_cast<int>(rng() % 40), coarse);
     for (int ray = 0; ray < 20; ++ray) {
       float o[3], d[3];
-      for (int a = 0; a < 3; ++a) {
-        o[a] = coordinate(rng, false) * 3.0f;
-        d[a] = -o[a] * 0.25f + coordinate(rng, false) * 0.1f;
-      }
-      compare(tris, o, d, ray % 2 ? 1e30f : 8.0f, n);
+      const float t_limit = make_ray(rng, tris, ray, o, d);
+      compare(tris, o, d, t_limit, n);
     }
   }
+  return n;
+}
+
+TEST(LeafChunkTest, RandomTrianglesMatchTheScalarTestBitForBit) {
+  const Counts n = compare_rounds(11, false, [](std::mt19937& rng, const Triangles&, int ray,
+                                                float* o, float* d) {
+    for (int a = 0; a < 3; ++a) {
+      o[a] = coordinate(rng, false) * 3.0f;
+      d[a] = -o[a] * 0.25f + coordinate(rng, false) * 0.1f;
+    }
+    return ray % 2 ? 1e30f : 8.0f;
+  });
   EXPECT_GT(n.hits, 1000);
   EXPECT_GT(n.misses, 1000);
 }
 
 TEST(LeafChunkTest, EdgeAndPlaneCasesGoToTheScalarTestOrMatchIt) {
-  std::mt19937 rng(12);
-  Counts n;
-  for (int round = 0; round < 300; ++round) {
-    const Triangles tris = random_triangles(rng, 1 + static_cast<int>(rng() % 40), true);
-    for (int ray = 0; ray < 20; ++ray) {
-      // Axis-aligned and coarse rays through shared edges; some origins on a triangle vertex.
-      float o[3], d[3];
-      const float* v = tris.vertices(tris.ids[rng() % tris.ids.size()]);
-      for (int a = 0; a < 3; ++a) {
-        o[a] = ray % 3 == 0 ? v[a] : coordinate(rng, true) * 2.0f;
-        d[a] = static_cast<float>(static_cast<int>(rng() % 5) - 2);
-      }
-      if (d[0] == 0.0f && d[1] == 0.0f && d[2] == 0.0f) d[2] = 1.0f;
-      compare(tris, o, d, 1e30f, n);
+  // Axis-aligned and coarse rays through shared edges; some origins on a triangle vertex.
+  const Counts n = compare_rounds(12, true, [](std::mt19937& rng, const Triangles& tris, int ray,
+                                               float* o, float* d) {
+    const float* v = tris.vertices(tris.ids[rng() % tris.ids.size()]);
+    for (int a = 0; a < 3; ++a) {
+      o[a] = ray % 3 == 0 ? v[a] : coordinate(rng, true) * 2.0f;
+      d[a] = static_cast<float>(static_cast<int>(rng() % 5) - 2);
     }
-  }
+    if (d[0] == 0.0f && d[1] == 0.0f && d[2] == 0.0f) d[2] = 1.0f;
+    return 1e30f;
+  });
   EXPECT_GT(n.hits, 100);
   EXPECT_GT(n.scalar, 100);  // the rare paths were reached
 }
