@@ -12,6 +12,7 @@
 #include "kdtree/kd_tree.h"
 #include "layout/memory_image.h"
 #include "layout/node_view.h"
+#include "traversal/leaf_chunk_avx512.h"
 #include "traversal/watertight_triangle.h"
 
 namespace rtusim {
@@ -44,6 +45,10 @@ struct TraversalState {
   // Per axis, as plain arrays (a glm::vec3 indexed by a run-time axis is a switch): origin,
   // direction, 1/direction and |1/direction|.
   float org[3] = {0, 0, 0}, dir[3] = {0, 0, 1}, inv_dir[3] = {0, 0, 1}, abs_inv_dir[3] = {0, 0, 1};
+  // Per axis, the origin for the side test: the origin itself where the direction is positive
+  // (or NaN), else the next float below it, so that `org_side < split` says "below first": the
+  // origin is below the plane, or on it and heading down (or parallel).
+  float org_side[3] = {0, 0, 0};
   WatertightRay wray;
   uint64_t node = 0;  // node to visit next
   float t_min = 0.0f, t_max = 0.0f;
@@ -53,6 +58,17 @@ struct TraversalState {
   Hit hit;
   uint32_t leaf_prims_tested = 0;  // of the last leaf step: triangles intersected
 };
+
+// The largest float below x (std::nextafter(x, -inf) without the library call).
+inline float next_float_down(float x) {
+  if (x == 0.0f) return -std::numeric_limits<float>::denorm_min();
+  if (x == -std::numeric_limits<float>::infinity() || std::isnan(x)) return x;
+  uint32_t b;
+  std::memcpy(&b, &x, sizeof b);
+  b = x > 0.0f ? b - 1 : b + 1;
+  std::memcpy(&x, &b, sizeof b);
+  return x;
+}
 
 // Starts a ray: clips it to the scene bounds; a ray that misses them is done at once.
 inline void traversal_begin(TraversalState& s, const MemoryImage& image, const Ray& ray,
@@ -69,6 +85,7 @@ inline void traversal_begin(TraversalState& s, const MemoryImage& image, const R
     s.dir[a] = ray.dir[a];
     s.inv_dir[a] = 1.0f / ray.dir[a];  // +-inf for a zero component, handled below
     s.abs_inv_dir[a] = std::abs(s.inv_dir[a]);
+    s.org_side[a] = ray.dir[a] <= 0.0f ? next_float_down(ray.origin[a]) : ray.origin[a];
     const float o = ray.origin[a];
     if (ray.dir[a] == 0.0f) {
       if (o < image.bounds_min[a] || o > image.bounds_max[a]) t1 = -1.0f;
@@ -108,9 +125,7 @@ namespace detail {
   // node's fetch need not wait for the arithmetic below), and where the ray crosses the plane.
   const int a = n.axis;
   const float o = s.org[a], d = s.dir[a];
-  bool below_first = o < n.split;
-  if (o == n.split) [[unlikely]]
-    below_first = d <= 0.0f;
+  const bool below_first = s.org_side[a] < n.split;
   const uint64_t near = below_first ? n.below_addr : n.above_addr;
   const uint64_t far = below_first ? n.above_addr : n.below_addr;
   const float t_plane = (n.split - o) * s.inv_dir[a];
@@ -130,15 +145,18 @@ namespace detail {
   // A ray parallel to the plane (or 0 * inf) lands here or goes near above, where the parallel
   // case would have sent it too: t_plane is NaN (every comparison false), +inf (slack is +inf,
   // so t_plane - slack is NaN) or -inf (t_plane <= 0, and the origin is off the plane).
-  if (d == 0.0f || std::isnan(t_plane)) [[unlikely]] {
-    // Parallel to the plane: a ray in the plane sees both sides, else one.
-    if (o == n.split) {
-      s.stack[s.sp++] = {n.above_addr, s.t_min, s.t_max};
-      s.node = n.below_addr;
-    } else {
-      s.node = near;
+  // Here d == 0 makes t_plane +inf or NaN, so one cheap test on t_plane guards the exact one.
+  if (!(t_plane < std::numeric_limits<float>::infinity())) [[unlikely]] {
+    if (d == 0.0f || std::isnan(t_plane)) {
+      // Parallel to the plane: a ray in the plane sees both sides, else one.
+      if (o == n.split) {
+        s.stack[s.sp++] = {n.above_addr, s.t_min, s.t_max};
+        s.node = n.below_addr;
+      } else {
+        s.node = near;
+      }
+      return;
     }
-    return;
   }
   s.stack[s.sp++] = {far, std::max(s.t_min, t_plane - slack), s.t_max};
   s.node = near;
@@ -163,32 +181,115 @@ struct PackedFloats {
   }
 };
 
+// One triangle's watertight test (`test(t_limit, t, u, v)`) within the hit found so far;
+// records a hit and returns true on one.
+template <class Test>
+[[gnu::always_inline]] inline bool record_hit(Hit& hit, float ray_t_max, uint32_t tri, Test&& test) {
+  float t, bu, bv;
+  if (!test(std::min(hit.t, ray_t_max), t, bu, bv)) return false;
+  hit = {t, tri, bu, bv};
+  return true;
+}
+
+// A leaf's triangle id `i`, from its node or its list.
+[[gnu::always_inline]] inline uint32_t leaf_triangle(const MemoryImage& image, const NodeView& n,
+                                                     uint32_t i) {
+  uint32_t tri = n.inline_prim;
+  if (n.prim_count > 1) std::memcpy(&tri, image.bytes.data() + n.list_addr + 4ull * i, sizeof tri);
+  return tri;
+}
+
+// Tests a leaf's triangles one by one, each fetched (reported) just before its test. Sets
+// leaf_prims_tested; true when the ray is done (any-hit mode).
+template <class Sink>
+[[gnu::always_inline]] inline bool leaf_triangles_scalar(TraversalState& s, const MemoryImage& image,
+                                                         const NodeView& n, Sink& sink) {
+  for (uint32_t i = 0; i < n.prim_count; ++i) {
+    const uint32_t tri = leaf_triangle(image, n, i);
+    const uint64_t ta = image.triangle_addr(tri);
+    sink.fetch(Stream::kTriangle, ta, MemoryImage::kTriangleBytes);
+    const PackedFloats v{image.bytes.data() + ta};
+    if (record_hit(s.hit, s.ray.t_max, tri, [&](float t_limit, float& t, float& bu, float& bv) {
+          return intersect_watertight(s.wray, v, t_limit, t, bu, bv);
+        }) && s.any_hit) {
+      s.leaf_prims_tested = i + 1;
+      return true;
+    }
+  }
+  s.leaf_prims_tested = n.prim_count;
+  return false;
+}
+
+#if defined(__AVX512F__)
+// Leaves of at least this many triangles are tested 16 at a time.
+constexpr uint32_t kChunkMinPrims = 4;
+
+// What a leaf's triangles leave: the hit so far, how many were tested, whether the ray is done.
+struct LeafOutcome {
+  Hit hit;
+  uint32_t tested;
+  bool done;
+};
+
+// The same as leaf_triangles_scalar(), 16 triangles at a time: each chunk is tested against the
+// hit found before it, then its lanes that may hit are taken in order against the hit so far,
+// as the scalar loop takes them; the fetches are reported in the same order and stop where it
+// stops. Needs an image whose triangle offsets fit in 31 bits (the gathers' indices). Out of
+// line, on copies, so the traversal loop keeps its state in registers.
+template <class Sink>
+[[gnu::noinline]] LeafOutcome leaf_triangles_chunked(const WatertightRay wray, Hit hit,
+                                                     const float ray_t_max, const bool any_hit,
+                                                     const MemoryImage& image, const NodeView n,
+                                                     Sink& sink) {
+  const uint8_t* bytes = image.bytes.data();
+  LeafChunk c;
+  for (uint32_t base = 0; base < n.prim_count; base += LeafChunk::kLanes) {
+    const uint32_t lanes = std::min<uint32_t>(LeafChunk::kLanes, n.prim_count - base);
+    c.test(wray, bytes, image.triangles.base_addr, bytes + n.list_addr + 4ull * base,
+           static_cast<int>(lanes), std::min(hit.t, ray_t_max));
+    uint32_t fetched = 0;  // lanes whose fetch is reported
+    auto fetch_through = [&](uint32_t lane) {
+      for (; fetched <= lane; ++fetched)
+        sink.fetch(Stream::kTriangle, image.triangle_addr(leaf_triangle(image, n, base + fetched)),
+                   MemoryImage::kTriangleBytes);
+    };
+    for (uint32_t todo = c.hit_mask | c.scalar_mask; todo != 0; todo &= todo - 1) {
+      const uint32_t i = static_cast<uint32_t>(__builtin_ctz(todo));
+      fetch_through(i);
+      const uint32_t tri = leaf_triangle(image, n, base + i);
+      const bool found = record_hit(hit, ray_t_max, tri, [&](float t_limit, float& t, float& bu, float& bv) {
+        if (c.scalar_mask >> i & 1u) {
+          const PackedFloats v{bytes + image.triangle_addr(tri)};
+          return intersect_watertight(wray, v, t_limit, t, bu, bv);
+        }
+        return c.accept(static_cast<int>(i), t_limit, t, bu, bv);
+      });
+      if (found && any_hit) return {hit, base + i + 1, true};
+    }
+    fetch_through(lanes - 1);
+  }
+  return {hit, n.prim_count, false};
+}
+#endif
+
 // A leaf's step: fetches its list (if any) and triangles, tests each, then pops or finishes.
 template <class Sink>
 [[gnu::always_inline]] inline void leaf_step(TraversalState& s, const MemoryImage& image,
                                              const NodeView& n, Sink& sink) {
-  const uint8_t* bytes = image.bytes.data();
   if (n.prim_count >= 2) sink.fetch(Stream::kList, n.list_addr, n.prim_count * 4u);
-  for (uint32_t i = 0; i < n.prim_count; ++i) {
-    uint32_t tri = n.inline_prim;
-    if (n.prim_count > 1) std::memcpy(&tri, bytes + n.list_addr + 4ull * i, sizeof tri);
-    const uint64_t ta = image.triangle_addr(tri);
-    sink.fetch(Stream::kTriangle, ta, MemoryImage::kTriangleBytes);
-    const PackedFloats v{bytes + ta};
-    float t, bu, bv;
-    const float t_limit = std::min(s.hit.t, s.ray.t_max);
-    if (intersect_watertight(s.wray, v, t_limit, t, bu, bv)) {
-      s.hit = {t, tri, bu, bv};
-      if (s.any_hit) {
-        s.leaf_prims_tested = i + 1;
-        s.done = true;
-        return;
-      }
-    }
-  }
-  s.leaf_prims_tested = n.prim_count;
+  bool done;
+#if defined(__AVX512F__)
+  if (n.prim_count >= kChunkMinPrims && image.bytes.size() <= 0x7fffffffu) [[unlikely]] {
+    const LeafOutcome o =
+        leaf_triangles_chunked(s.wray, s.hit, s.ray.t_max, s.any_hit, image, n, sink);
+    s.hit = o.hit;
+    s.leaf_prims_tested = o.tested;
+    done = o.done;
+  } else
+#endif
+    done = leaf_triangles_scalar(s, image, n, sink);
   // The ray is finished in this leaf when its hit lies inside the leaf's interval.
-  if (s.hit.t <= s.t_max || !traversal_pop(s)) s.done = true;
+  if (done || s.hit.t <= s.t_max || !traversal_pop(s)) s.done = true;
 }
 }  // namespace detail
 

@@ -38,6 +38,9 @@ struct WatertightRay {
 
 namespace watertight_detail {
 
+// t is recomputed in double where |t| is below this many times its rounding-error bound.
+constexpr float kRefineAbove = 1024.0f;
+
 // gamma(n) of Higham / pbrt: bounds the relative error of n float roundings.
 constexpr float gamma_f(int n) {
   constexpr float eps = 0.5f * 1.1920929e-7f;  // unit roundoff 2^-24
@@ -73,6 +76,18 @@ constexpr float gamma_f(int n) {
                    (std::abs(w[0]) + std::abs(w[1]) + std::abs(w[2])));
   if (std::abs(num) <= num_err || den == 0.0) return 0.0;
   return num / den;
+}
+
+// The test's last step where t needs no refinement: T = t * det against (0, t_max) scaled by
+// det, then t = T / det itself; one branch for all of it. Sets t; false when out of range.
+[[gnu::always_inline]] inline bool t_in_range(float T, float det, float inv, float t_max,
+                                               float& t) {
+  const float T_limit = t_max * det;
+  const bool positive = det > 0.0f, negative = !positive;
+  const bool outside = (positive & ((T <= 0.0f) | (T >= T_limit))) |
+                       (negative & ((T >= 0.0f) | (T <= T_limit)));
+  t = T * inv;
+  return !(outside | !(t > 0.0f) | !(t < t_max));
 }
 
 // The largest of three, as std::max({a, b, c}) picks it (the first of equals), without a loop.
@@ -116,7 +131,7 @@ template <class Vertices>
   // negative: t is recomputed in double instead.
   using watertight_detail::gamma_f;
   using watertight_detail::max3;
-  constexpr float kRefineAbove = 1024.0f;
+  using watertight_detail::kRefineAbove;
   const float max_zt = max3(std::abs(r.sz * Az), std::abs(r.sz * Bz), std::abs(r.sz * Cz));
   const float max_xt = max3(std::abs(Ax), std::abs(Bx), std::abs(Cx));
   const float max_yt = max3(std::abs(Ay), std::abs(By), std::abs(Cy));
@@ -132,14 +147,8 @@ template <class Vertices>
     const double td = watertight_detail::refine_t(r, xyz);
     t = static_cast<float>(td);
     if (!(td > 0.0) || !(t > 0.0f) || !(t < t_max)) return false;
-  } else {
-    // T against (0, t_max) scaled by det, then t itself: one branch for all of it.
-    const float T_limit = t_max * det;
-    const bool positive = det > 0.0f, negative = !positive;
-    const bool outside = (positive & ((T <= 0.0f) | (T >= T_limit))) |
-                         (negative & ((T >= 0.0f) | (T <= T_limit)));
-    t = T * inv;
-    if (outside | !(t > 0.0f) | !(t < t_max)) return false;
+  } else if (!watertight_detail::t_in_range(T, det, inv, t_max, t)) {
+    return false;
   }
   bu = V * inv;
   bv = W * inv;

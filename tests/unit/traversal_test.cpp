@@ -2,7 +2,11 @@
 // rays, origins on split planes), and watertightness on closed meshes.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstring>
+#include <limits>
 #include <random>
+#include <vector>
 
 #include "kdtree/sah_builder.h"
 #include "layout/dfl_layout.h"
@@ -203,6 +207,31 @@ TEST(Traversal, ReportsFetchesInIssueOrder) {
     const uint64_t ta = f.image.triangle_addr(h.triangle);
     EXPECT_TRUE(std::any_of(rec.log.begin(), rec.log.end(),
                             [&](const auto& e) { return e.second == ta; }));
+  }
+}
+
+// The origin's side test's nudge: the float just below, as std::nextafter gives it, for zeros,
+// infinities, NaN, subnormals and random floats of every magnitude and sign.
+TEST(Traversal, NextFloatDownIsNextafterTowardMinusInfinity) {
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  std::vector<float> xs = {0.0f, -0.0f, kInf, -kInf, std::numeric_limits<float>::denorm_min(),
+                           -std::numeric_limits<float>::denorm_min(),
+                           std::numeric_limits<float>::max(), -std::numeric_limits<float>::max(),
+                           std::numeric_limits<float>::min(), -std::numeric_limits<float>::min()};
+  std::mt19937 rng(5);
+  for (int i = 0; i < 100000; ++i) {
+    const uint32_t b = rng();
+    float x;
+    std::memcpy(&x, &b, sizeof x);
+    xs.push_back(x);
+  }
+  for (const float x : xs) {
+    const float got = next_float_down(x), want = std::nextafter(x, -kInf);
+    if (std::isnan(x)) {
+      EXPECT_TRUE(std::isnan(got));
+    } else {
+      EXPECT_EQ(std::memcmp(&got, &want, sizeof got), 0) << x;
+    }
   }
 }
 
