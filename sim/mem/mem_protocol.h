@@ -73,7 +73,8 @@ class MemoryHorizon {
   // Whether the component sets every watched flag (watch()) whenever its horizon changes, so an
   // initiator may keep the horizon it last asked for until then; false: ask every time.
   virtual bool reports_changes() const { return false; }
-  // `flag` is set (never cleared) at each change of the horizon, if reports_changes().
+  // `flag` is set (never cleared) at each change of the horizon, if reports_changes(). The
+  // component keeps the pointer: the flag must outlive it (or the component stop acting first).
   void watch(bool* flag) const { watchers_.push_back(flag); }
 
  protected:

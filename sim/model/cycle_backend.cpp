@@ -19,7 +19,7 @@ struct CycleBackend::Top : sc_core::sc_module {
   Dram dram;
   std::unique_ptr<NodeL1> node_l1;  // l1.model: L1Cache or the RTL adapter
   std::unique_ptr<L1Cache> data_cache;
-  TraversalUnit unit;
+  TraversalUnit unit;  // last: destroyed first; the memories above hold a pointer to its flag
 
   Top(const sc_core::sc_module_name& name, const MemoryImage& image, const CycleParams& p)
       : sc_module(name),

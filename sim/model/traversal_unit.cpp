@@ -249,7 +249,7 @@ void TraversalUnit::process(Slot& s, uint32_t index, uint64_t t) {
         return;
       }
       ++steps_;
-      // The ray's next node is read at its next step, some thirty other rays' events later:
+      // The ray's next node is read at its next step, after the other rays' events in flight:
       // bring it into the host's cache meanwhile (no effect on the simulation).
       __builtin_prefetch(image_.bytes.data() + s.st.node);
       max_stack_ = std::max(max_stack_, s.st.sp);

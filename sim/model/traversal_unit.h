@@ -60,7 +60,8 @@ class TraversalUnit : public sc_core::sc_module {
 
   SC_HAS_PROCESS(TraversalUnit);
 
-  // A memory component whose own activity bounds the unit's run-ahead.
+  // A memory component whose own activity bounds the unit's run-ahead. A component that reports
+  // changes keeps a pointer to the unit's flag: it must not act once the unit is destroyed.
   void add_horizon(const MemoryHorizon* h) {
     horizons_.push_back(h);
     if (h->reports_changes())

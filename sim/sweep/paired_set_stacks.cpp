@@ -24,10 +24,13 @@ PairedSetStacks::PairedSetStacks(const std::vector<uint64_t>& sets,
   storage_.assign(entries + 16, kEmpty);
   const auto address = reinterpret_cast<uintptr_t>(storage_.data());
   uint32_t* stacks = storage_.data() + ((64 - address % 64) % 64) / sizeof(uint32_t);
+  // Set counts 2k and 2k + 1 form pair k: first sets, set masks, the bits above their depths
+  // and their lanes (the low byte for the first, the high byte for the second).
   for (size_t e = 0; e < counts.size(); e += 2)
     pair_.push_back(Pair{stacks + first[e], stacks + first[e + 1],
-                         static_cast<uint32_t>(counts[e] - 1), static_cast<uint32_t>(counts[e + 1] - 1),
-                         1u << depth[e], 1u << depth[e + 1],
+                         static_cast<uint32_t>(counts[e] - 1),
+                         static_cast<uint32_t>(counts[e + 1] - 1), 1u << depth[e],
+                         1u << depth[e + 1],
                          ((1u << depth[e]) - 1) | (((1u << depth[e + 1]) - 1) << 8)});
 }
 

@@ -35,8 +35,8 @@ class PairedSetStacks {
     const auto tag = static_cast<uint32_t>(line);
     for (size_t p = 0; p < pair_.size(); ++p) {
       const Pair& q = pair_[p];
-      uint32_t* sa = q.a + (tag & q.mask_a) * kMaxDepth;
-      uint32_t* sb = q.b + (tag & q.mask_b) * kMaxDepth;
+      uint32_t* sa = q.a + size_t{tag & q.mask_a} * kMaxDepth;
+      uint32_t* sb = q.b + size_t{tag & q.mask_b} * kMaxDepth;
       uint32_t da, db;
       access_pair(sa, sb, tag, q, da, db);
       ++hist[2 * p * kStride + da];
@@ -64,7 +64,12 @@ class PairedSetStacks {
   // Finds `tag` in both sets and moves it to the top of each; da, db its distances before.
   static void access_pair(uint32_t* sa, uint32_t* sb, uint32_t tag, const Pair& q, uint32_t& da,
                           uint32_t& db) {
-#if defined(__AVX512F__)
+#if defined(__AVX512F__) && defined(__BMI__)
+    // GCC 12 warns of its own intrinsics' undefined upper halves (GCC bug 105593).
+#if !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
     const __m512i key = _mm512_set1_epi32(static_cast<int>(tag));
     const __m512i v = _mm512_inserti64x4(
         _mm512_castsi256_si512(_mm256_load_si256(reinterpret_cast<const __m256i*>(sa))),
@@ -84,6 +89,9 @@ class PairedSetStacks {
     const __m512i out = _mm512_mask_mov_epi32(v, take, up);
     _mm256_store_si256(reinterpret_cast<__m256i*>(sa), _mm512_castsi512_si256(out));
     _mm256_store_si256(reinterpret_cast<__m256i*>(sb), _mm512_extracti64x4_epi64(out, 1));
+#if !defined(__clang__)
+#pragma GCC diagnostic pop
+#endif
 #else
     da = lru_stack_access(sa, tag, static_cast<uint32_t>(__builtin_ctz(q.beyond_a)));
     db = lru_stack_access(sb, tag, static_cast<uint32_t>(__builtin_ctz(q.beyond_b)));

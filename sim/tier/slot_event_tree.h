@@ -1,9 +1,9 @@
 // The timed interleaved mode's event queue: at most one event per ray slot, the earliest first,
 // in EventWheel's order (the queue the mode used first, whose order its figures keep): among
 // events of one cycle those set kFarCycles or more after the last event taken (the wheel's far
-// events) go first, then by slot. A tournament tree over the slots: each inner node holds the smaller key of
-// its two children, so the next event is the root, and setting a slot's event recomputes its
-// path to the root (log2 slots minimums of loads that do not wait on each other). The mode's
+// events) go first, then by slot. A tournament tree over the slots: each inner node holds the
+// smaller key of its two children, so the next event is the root, and setting a slot's event
+// recomputes its path to the root (log2 slots minimums of loads that do not wait on each other). The mode's
 // pattern, take the next event and then set that slot's next, costs no heap sift and no search.
 #pragma once
 #include <algorithm>
@@ -47,6 +47,7 @@ class SlotEventTree {
 
  private:
   static constexpr uint64_t kSlotMask = (uint64_t{1} << kSlotBits) - 1;
+  // Sets `slot`'s leaf to `key`, then each node on its path to the root to its children's minimum.
   [[gnu::always_inline]] void update(uint32_t slot, uint64_t key) {
     size_t i = leaves_ + slot;
     key_[i] = key;

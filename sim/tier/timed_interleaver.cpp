@@ -16,16 +16,16 @@ TimedInterleaver::TimedInterleaver(const MemoryImage& image, const CycleParams& 
     : image_(image),
       unit_(timing.unit),
       period_ps_(timing.unit.clock_period_ps),
+      cycles_(period_ps_ ? period_ps_ : 1),
       data_line_(timing.unit.data_line_bytes),
       dram_(make_dram_backend(timing.dram)),
       slots_(static_cast<size_t>(rays_in_flight)),
       events_(static_cast<uint32_t>(rays_in_flight)),
       lanes_(timing.unit) {
   if (period_ps_ == 0) throw std::logic_error("timed interleaver: clock period not derived");
-  cycles_per_ps_ = 1.0 / static_cast<double>(period_ps_);
   auto l1_timing = [](L1Timing& t, const L1Params& p) {
     t.hit_cycles = p.hit_cycles;
-    t.line_size = LineSize(p.cache.line_bytes);
+    t.line_size = FastDivider(p.cache.line_bytes);
     t.mshr_line.assign(p.mshrs, ~uint64_t{0});
     t.mshr_fill.assign(p.mshrs, 0);
   };
@@ -44,15 +44,7 @@ uint64_t TimedInterleaver::dram_read(uint64_t addr, uint32_t bytes, Stream s, ui
   done_.clear();
   dram_->advance(dram_->next_decision_ps(), done_);
   if (done_.size() != 1) throw std::logic_error("timed interleaver: DRAM read not decided");
-  return cycle_at_or_after(done_[0].done_ps);
-}
-
-uint64_t TimedInterleaver::cycle_at_or_after(uint64_t ps) const {
-  // An estimate by a product (a division costs tens of cycles), then made exact.
-  uint64_t c = static_cast<uint64_t>(static_cast<double>(ps) * cycles_per_ps_);
-  while (c * period_ps_ < ps) ++c;
-  while (c > 0 && (c - 1) * period_ps_ >= ps) --c;
-  return c;
+  return cycles_.div_up(done_[0].done_ps);
 }
 
 uint64_t TimedInterleaver::l1_miss(L1Timing& l1, uint64_t line, Stream s, uint64_t c) {
@@ -69,7 +61,7 @@ uint64_t TimedInterleaver::l1_miss(L1Timing& l1, uint64_t line, Stream s, uint64
   }
   ++l1.primary;
   l1.mshr_line[m] = line;
-  const uint64_t line_bytes = l1.line_size.bytes;
+  const uint64_t line_bytes = l1.line_size.divisor();
   const uint64_t fill = dram_read(line * line_bytes, static_cast<uint32_t>(line_bytes), s,
                                   c + l1.hit_cycles);
   l1.mshr_fill[m] = fill;
@@ -93,9 +85,9 @@ uint64_t TimedInterleaver::send(Slot& slot, const RayStepLog::Fetch& f, uint64_t
   }
   const bool node = stream == Stream::kNode;
   L1Timing* l1 = node ? &node_l1_ : data_cache_.get();
-  const LineSize& size = l1 ? l1->line_size : data_line_;
-  const uint64_t line_bytes = size.bytes;
-  const uint64_t first = size.line(f.addr), last = size.line(f.addr + f.bytes - 1);
+  const FastDivider& size = l1 ? l1->line_size : data_line_;
+  const uint64_t line_bytes = size.divisor();
+  const uint64_t first = size.div(f.addr), last = size.div(f.addr + f.bytes - 1);
   uint64_t ready = t;
   if (!l1) {  // straight to DRAM: one request per line touched, as the unit sends them
     account();
@@ -119,9 +111,9 @@ uint64_t TimedInterleaver::send(Slot& slot, const RayStepLog::Fetch& f, uint64_t
 template <class Sink>
 uint64_t TimedInterleaver::send_node(Slot& slot, const RayStepLog::Fetch& f, uint64_t t,
                                      Sink& sink, const FetchCache& caches) {
-  const LineSize& size = node_l1_.line_size;
-  const uint64_t line = size.line(f.addr);
-  if (f.bytes == 0 || size.line(f.addr + f.bytes - 1) != line) [[unlikely]]
+  const FastDivider& size = node_l1_.line_size;
+  const uint64_t line = size.div(f.addr);
+  if (f.bytes == 0 || size.div(f.addr + f.bytes - 1) != line) [[unlikely]]
     return send(slot, f, t, sink, caches);
   // One line: the access says whether it was in the tags; only the node stream's bytes change.
   const StreamCounters& counters = caches.stream(Stream::kNode);
@@ -130,10 +122,6 @@ uint64_t TimedInterleaver::send_node(Slot& slot, const RayStepLog::Fetch& f, uin
   slot.dram_bytes += counters.dram_bytes - dram_bytes;
   return l1_line(node_l1_, line, counters.misses == misses, Stream::kNode, t);
 }
-
-namespace {
-constexpr size_t kRaysPerChunk = 256;  // a batch's rays per recording task
-}  // namespace
 
 void TimedInterleaver::trace(std::span<const RayRecord> rays, std::span<Hit> hits,
                              FetchCache& caches, const Charge& charge) {

@@ -5,7 +5,8 @@
 // (FetchCache); the model only decides the order of the accesses and when each ray finishes.
 //
 // The model, in cycles of the unit's clock, from the cycle tier's own keys (CycleParams):
-//  - each ray in flight has a next event (cycle, slot); the earliest goes first (ties by slot);
+//  - each ray in flight has a next event (cycle, slot); the earliest goes first (ties: events
+//    set kFarCycles or more ahead first, then by slot, EventWheel's order);
 //  - a traversal step takes the step pipeline's next free cycle (one step per cycle), looks
 //    its node's lines up in the node L1 (one lookup per cycle), is decided step_cycles after the
 //    last line is in; a leaf then reads its list, then its triangles, then tests them in the
@@ -23,7 +24,6 @@
 // chunks on every thread (RayStepLog), and the model goes over their records on one thread.
 #pragma once
 #include <algorithm>
-#include <bit>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -33,6 +33,7 @@
 #include "cache/stream_caches.h"
 #include "layout/memory_image.h"
 #include "mem/dram/dram_backend.h"
+#include "mem/fast_divider.h"
 #include "model/cycle_params.h"
 #include "model/isect_lanes.h"
 #include "tier/ray_step_log.h"
@@ -71,18 +72,10 @@ class TimedInterleaver {
     Phase phase = Phase::kStep;
     uint64_t dram_bytes = 0;      // of the current ray, charged when it ends
   };
-  // A line size (or a clock period): the line number of a byte address by a shift when the
-  // size is a power of two, else by a division.
-  struct LineSize {
-    uint64_t bytes = 64;
-    int shift = 6;  // -1: not a power of two
-    explicit LineSize(uint64_t b = 64) : bytes(b), shift(std::has_single_bit(b) ? std::countr_zero(b) : -1) {}
-    uint64_t line(uint64_t addr) const { return shift >= 0 ? addr >> shift : addr / bytes; }
-  };
   // One L1's timing: MSHRs (line, fill cycle) and the lookup port.
   struct L1Timing {
     uint32_t hit_cycles = 1;
-    LineSize line_size;
+    FastDivider line_size{64};  // byte address to line number
     std::vector<uint64_t> mshr_line;  // per MSHR: its line
     std::vector<uint64_t> mshr_fill;  // per MSHR: its fill's cycle (busy before it)
     uint64_t port_free = 0;
@@ -104,8 +97,9 @@ class TimedInterleaver {
                 const FetchCache& caches);
   // send() of a node fetch, its one-line case inlined.
   template <class Sink>
-  [[gnu::always_inline]] inline uint64_t send_node(Slot& slot, const RayStepLog::Fetch& f, uint64_t t,
-                                            Sink& sink, const FetchCache& caches);
+  [[gnu::always_inline]] inline uint64_t send_node(Slot& slot, const RayStepLog::Fetch& f,
+                                                   uint64_t t, Sink& sink,
+                                                   const FetchCache& caches);
   // The cycle line number `line` (in the tags before the access: `in_tags`) looked up in `l1`
   // from cycle t is there.
   [[gnu::always_inline]] uint64_t l1_line(L1Timing& l1, uint64_t line, bool in_tags, Stream s,
@@ -130,21 +124,19 @@ class TimedInterleaver {
   uint64_t l1_miss(L1Timing& l1, uint64_t line, Stream s, uint64_t c);
   // The cycle a DRAM read of `bytes` at `addr` sent at cycle t completes.
   uint64_t dram_read(uint64_t addr, uint32_t bytes, Stream s, uint64_t t);
-  // The first cycle boundary at or after `ps`.
-  uint64_t cycle_at_or_after(uint64_t ps) const;
 
   const MemoryImage& image_;
   UnitParams unit_;
   uint64_t period_ps_;
-  double cycles_per_ps_;
-  LineSize data_line_;  // lists and triangles straight to DRAM: its bursts
+  FastDivider cycles_;     // ps to cycles: div_up(ps) is the first cycle boundary at or after
+  FastDivider data_line_;  // lists and triangles straight to DRAM: its bursts
   L1Timing node_l1_;
   std::unique_ptr<L1Timing> data_cache_;  // nullptr: lists and triangles straight to DRAM
   std::unique_ptr<DramBackend> dram_;
   std::vector<DramCompletion> done_;  // scratch
   uint64_t dram_requests_ = 0;
   std::vector<Slot> slots_;
-  SlotEventTree events_;  // each busy slot's next event, by cycle, then slot
+  SlotEventTree events_;  // each busy slot's next event, in EventWheel's order
   uint64_t step_free_ = 0;           // the step pipeline's next free cycle
   IsectLanes lanes_;
   uint64_t last_cycle_ = 0;          // the last ray's end so far

@@ -10,6 +10,9 @@
 
 namespace rtusim {
 
+// A wavefront batch's rays per chunk: enough work per task to hide the pipeline's overhead.
+inline constexpr size_t kRaysPerChunk = 256;
+
 // Runs chunks [0, count) through trace(chunk, slot) on the worker threads and then
 // consume(chunk, slot) on one thread in chunk order. A slot is reused by chunk + slots, where
 // slots is chunks_per_thread per thread (it bounds the memory the slots hold).

@@ -23,7 +23,6 @@ void TraceBackend::replay(const FetchLog& /*log*/) {
 
 namespace {
 
-constexpr size_t kRaysPerChunk = 256;   // a batch's rays per task
 constexpr size_t kPixelsPerChunk = 16;  // recursive order: pixels (whole ray trees) per task
 
 // A backend that traverses with the shared step and records the fetches in a log.

@@ -184,7 +184,8 @@ struct PackedFloats {
 // One triangle's watertight test (`test(t_limit, t, u, v)`) within the hit found so far;
 // records a hit and returns true on one.
 template <class Test>
-[[gnu::always_inline]] inline bool record_hit(Hit& hit, float ray_t_max, uint32_t tri, Test&& test) {
+[[gnu::always_inline]] inline bool record_hit(Hit& hit, float ray_t_max, uint32_t tri,
+                                              Test&& test) {
   float t, bu, bv;
   if (!test(std::min(hit.t, ray_t_max), t, bu, bv)) return false;
   hit = {t, tri, bu, bv};
@@ -202,7 +203,8 @@ template <class Test>
 // Tests a leaf's triangles one by one, each fetched (reported) just before its test. Sets
 // leaf_prims_tested; true when the ray is done (any-hit mode).
 template <class Sink>
-[[gnu::always_inline]] inline bool leaf_triangles_scalar(TraversalState& s, const MemoryImage& image,
+[[gnu::always_inline]] inline bool leaf_triangles_scalar(TraversalState& s,
+                                                         const MemoryImage& image,
                                                          const NodeView& n, Sink& sink) {
   for (uint32_t i = 0; i < n.prim_count; ++i) {
     const uint32_t tri = leaf_triangle(image, n, i);
@@ -257,13 +259,14 @@ template <class Sink>
       const uint32_t i = static_cast<uint32_t>(__builtin_ctz(todo));
       fetch_through(i);
       const uint32_t tri = leaf_triangle(image, n, base + i);
-      const bool found = record_hit(hit, ray_t_max, tri, [&](float t_limit, float& t, float& bu, float& bv) {
+      auto test = [&](float t_limit, float& t, float& bu, float& bv) {
         if (c.scalar_mask >> i & 1u) {
           const PackedFloats v{bytes + image.triangle_addr(tri)};
           return intersect_watertight(wray, v, t_limit, t, bu, bv);
         }
         return c.accept(static_cast<int>(i), t_limit, t, bu, bv);
-      });
+      };
+      const bool found = record_hit(hit, ray_t_max, tri, test);
       if (found && any_hit) return {hit, base + i + 1, true};
     }
     fetch_through(lanes - 1);
@@ -279,6 +282,7 @@ template <class Sink>
   if (n.prim_count >= 2) sink.fetch(Stream::kList, n.list_addr, n.prim_count * 4u);
   bool done;
 #if defined(__AVX512F__)
+  // Rare per step (half the leaves are empty, most others hold one or two triangles).
   if (n.prim_count >= kChunkMinPrims && image.bytes.size() <= 0x7fffffffu) [[unlikely]] {
     const LeafOutcome o =
         leaf_triangles_chunked(s.wray, s.hit, s.ray.t_max, s.any_hit, image, n, sink);
@@ -288,14 +292,16 @@ template <class Sink>
   } else
 #endif
     done = leaf_triangles_scalar(s, image, n, sink);
-  // The ray is finished in this leaf when its hit lies inside the leaf's interval.
+  // The ray is finished in this leaf when its hit lies inside the leaf's interval, or (any-hit)
+  // when it found one.
   if (done || s.hit.t <= s.t_max || !traversal_pop(s)) s.done = true;
 }
 }  // namespace detail
 
 // Visits one node of ray `s`. `Decoder` is the layout's static decode(image, addr) -> NodeView.
 template <class Decoder, class Sink>
-[[gnu::always_inline]] inline StepKind traversal_step(TraversalState& s, const MemoryImage& image, Sink& sink) {
+[[gnu::always_inline]] inline StepKind traversal_step(TraversalState& s, const MemoryImage& image,
+                                                      Sink& sink) {
   if (s.done) return StepKind::kDone;
   const NodeView n = detail::fetch_node<Decoder>(s, image, sink);
   if (!n.leaf) [[likely]] {

@@ -138,7 +138,9 @@ TEST(LeafChunkTest, EdgeAndPlaneCasesGoToTheScalarTestOrMatchIt) {
 
 #else
 
-TEST(LeafChunkTest, NeedsAvx512) { GTEST_SKIP() << "built without AVX-512: the leaf test is scalar"; }
+TEST(LeafChunkTest, NeedsAvx512) {
+  GTEST_SKIP() << "built without AVX-512: the leaf test is scalar";
+}
 
 #endif
 
