@@ -1,14 +1,22 @@
 // The 16-lane leaf test against the scalar watertight test, bit for bit: random triangles, fans
 // of triangles sharing edges and vertices (zero barycentrics), origins on the triangles' planes
 // (t to refine), and limits lowered after the chunk was tested (as a leaf's earlier hits do).
+// Then the chunked leaf loop (detail::leaf_triangles_chunked) against the scalar one: the same
+// hit, triangles tested, any-hit stop and fetches, in order.
 #include "traversal/leaf_chunk_avx512.h"
 
+#include <algorithm>
+#include <array>
 #include <cstring>
+#include <limits>
 #include <random>
 #include <vector>
 
 #include <gtest/gtest.h>
 
+#include "layout/memory_image.h"
+#include "traversal/fetch_recorder.h"
+#include "traversal/traversal.h"
 #include "traversal/watertight_triangle.h"
 
 namespace rtusim {
@@ -28,8 +36,10 @@ struct Triangles {
   static constexpr uint64_t kBase = 64;
   std::vector<uint8_t> bytes;
   std::vector<uint32_t> ids;
-  const float* vertices(uint32_t id) const {
-    return reinterpret_cast<const float*>(bytes.data() + kBase + 36ull * id);
+  std::array<float, 9> vertices(uint32_t id) const {
+    std::array<float, 9> v;
+    std::memcpy(v.data(), bytes.data() + kBase + 36ull * id, sizeof v);
+    return v;
   }
 };
 
@@ -69,7 +79,7 @@ void compare(const Triangles& tris, const float* o, const float* d, float t_limi
     EXPECT_EQ(c.hit_mask >> lanes, 0u);
     EXPECT_EQ(c.scalar_mask >> lanes, 0u);
     for (int i = 0; i < lanes; ++i) {
-      const float* v = tris.vertices(tris.ids[base + i]);
+      const std::array<float, 9> v = tris.vertices(tris.ids[base + i]);
       if (c.scalar_mask >> i & 1u) {
         ++n.scalar;
         continue;  // the leaf test hands it to the scalar test itself
@@ -124,7 +134,7 @@ TEST(LeafChunkTest, EdgeAndPlaneCasesGoToTheScalarTestOrMatchIt) {
   // Axis-aligned and coarse rays through shared edges; some origins on a triangle vertex.
   const Counts n = compare_rounds(12, true, [](std::mt19937& rng, const Triangles& tris, int ray,
                                                float* o, float* d) {
-    const float* v = tris.vertices(tris.ids[rng() % tris.ids.size()]);
+    const std::array<float, 9> v = tris.vertices(tris.ids[rng() % tris.ids.size()]);
     for (int a = 0; a < 3; ++a) {
       o[a] = ray % 3 == 0 ? v[a] : coordinate(rng, true) * 2.0f;
       d[a] = static_cast<float>(static_cast<int>(rng() % 5) - 2);
@@ -134,6 +144,132 @@ TEST(LeafChunkTest, EdgeAndPlaneCasesGoToTheScalarTestOrMatchIt) {
   });
   EXPECT_GT(n.hits, 100);
   EXPECT_GT(n.scalar, 100);  // the rare paths were reached
+}
+
+// A leaf holding `tris` in a memory image: their vertices at Triangles::kBase, the leaf's id
+// list in its own region after them.
+struct LeafImage {
+  MemoryImage image;
+  NodeView leaf;
+};
+
+LeafImage leaf_image(const Triangles& tris) {
+  LeafImage l;
+  MemoryImage& m = l.image;
+  m.bytes = tris.bytes;
+  m.triangles = {Triangles::kBase, 36ull * tris.ids.size()};
+  m.lists = {align_region(m.triangles.end_addr()), 4ull * tris.ids.size()};
+  m.bytes.resize(m.lists.end_addr());
+  std::memcpy(m.bytes.data() + m.lists.base_addr, tris.ids.data(), m.lists.size_bytes);
+  l.leaf.leaf = true;
+  l.leaf.prim_count = static_cast<uint32_t>(tris.ids.size());
+  l.leaf.list_addr = m.lists.base_addr;
+  return l;
+}
+
+// The fetches a leaf loop reports, in order (a sink of this file's own, so the loops under test
+// are instantiated here).
+struct FetchList {
+  std::vector<RecordedFetch> fetches;
+  void fetch(Stream s, uint64_t addr, uint32_t bytes) { fetches.push_back({s, addr, bytes}); }
+};
+
+// One ray into one leaf, starting from hit `prior`, through both leaf loops: the chunked one must
+// leave the scalar one's hit (bit for bit), triangle count, done flag and fetch list.
+::testing::AssertionResult leaf_loops_agree(const LeafImage& l, const WatertightRay& wray,
+                                            const Hit& prior, float ray_t_max, bool any_hit,
+                                            detail::LeafOutcome& out) {
+  TraversalState s;
+  s.wray = wray;
+  s.hit = prior;
+  s.ray.t_max = ray_t_max;
+  s.any_hit = any_hit;
+  FetchList want_sink, got_sink;
+  const bool done = detail::leaf_triangles_scalar(s, l.image, l.leaf, want_sink);
+  out = detail::leaf_triangles_chunked(wray, prior, ray_t_max, any_hit, l.image, l.leaf,
+                                       got_sink);
+  const std::vector<RecordedFetch>& want = want_sink.fetches;
+  const std::vector<RecordedFetch>& got = got_sink.fetches;
+  auto fail = [&]() {
+    return ::testing::AssertionFailure()
+           << (any_hit ? "any-hit" : "closest-hit") << ", prior t " << prior.t << ", t_max "
+           << ray_t_max << ", " << l.leaf.prim_count << " triangles: ";
+  };
+  if (bits(out.hit.t) != bits(s.hit.t) || out.hit.triangle != s.hit.triangle ||
+      bits(out.hit.u) != bits(s.hit.u) || bits(out.hit.v) != bits(s.hit.v))
+    return fail() << "hit t " << out.hit.t << " triangle " << out.hit.triangle << ", scalar t "
+                  << s.hit.t << " triangle " << s.hit.triangle;
+  if (out.tested != s.leaf_prims_tested)
+    return fail() << "tested " << out.tested << ", scalar " << s.leaf_prims_tested;
+  if (out.done != done) return fail() << "done " << out.done << ", scalar " << done;
+  for (size_t k = 0; k < std::max(got.size(), want.size()); ++k) {
+    if (k >= got.size() || k >= want.size())
+      return fail() << got.size() << " fetches, scalar " << want.size();
+    if (got[k].stream != want[k].stream || got[k].addr != want[k].addr ||
+        got[k].bytes != want[k].bytes)
+      return fail() << "fetch " << k << " at " << got[k].addr << ", scalar at " << want[k].addr;
+  }
+  return ::testing::AssertionSuccess();
+}
+
+TEST(LeafChunkTest, ChunkedLeafLoopMatchesTheScalarLoop) {
+  std::mt19937 rng(13);
+  constexpr uint32_t kPriorTriangle = 1u << 30;  // a hit found before the leaf, in no chunk
+  int found = 0, kept_prior = 0, stopped_early = 0, hits_in_two_chunks = 0;
+  for (int round = 0; round < 300; ++round) {
+    const bool coarse = round % 2 == 1;
+    const Triangles tris = random_triangles(rng, 4 + static_cast<int>(rng() % 37), coarse);
+    const LeafImage l = leaf_image(tris);
+    for (int ray = 0; ray < 20; ++ray) {
+      float o[3], d[3];
+      for (int a = 0; a < 3; ++a) {
+        o[a] = coordinate(rng, coarse) * 3.0f;
+        d[a] = coarse ? static_cast<float>(static_cast<int>(rng() % 5) - 2)
+                      : -o[a] * 0.25f + coordinate(rng, false) * 0.1f;
+      }
+      if (d[0] == 0.0f && d[1] == 0.0f && d[2] == 0.0f) d[2] = 1.0f;
+      const WatertightRay wray(glm::vec3(o[0], o[1], o[2]), glm::vec3(d[0], d[1], d[2]));
+      // Every triangle's own hit distance, in leaf order, to choose limits among them.
+      std::vector<float> ts;
+      uint32_t hit_chunks = 0;  // bit c: chunk c holds a hit
+      for (size_t i = 0; i < tris.ids.size(); ++i) {
+        float t, bu, bv;
+        if (intersect_watertight(wray, tris.vertices(tris.ids[i]), 1e30f, t, bu, bv)) {
+          ts.push_back(t);
+          hit_chunks |= 1u << (i / LeafChunk::kLanes);
+        }
+      }
+      auto some_t = [&]() { return ts.empty() ? 1.0f : ts[rng() % ts.size()]; };
+      // A hit found before the leaf: none, at one triangle's t (a tie), halfway to one, or
+      // nearer than all; the ray's own limit: none, at one triangle's t, or below one.
+      Hit prior;
+      switch (ray % 4) {
+        case 1: prior.t = some_t(); break;
+        case 2: prior.t = some_t() * 0.5f; break;
+        case 3: prior.t = 1e-3f; break;
+        default: break;
+      }
+      if (ray % 4 != 0) prior = {prior.t, kPriorTriangle, 0.25f, 0.5f};
+      const float ray_t_max = ray % 3 == 0 ? std::numeric_limits<float>::infinity()
+                              : ray % 3 == 1 ? some_t()
+                                             : some_t() * 0.75f;
+      for (const bool any_hit : {false, true}) {
+        detail::LeafOutcome out;
+        ASSERT_TRUE(leaf_loops_agree(l, wray, prior, ray_t_max, any_hit, out))
+            << "round " << round << " ray " << ray;
+        found += out.hit.triangle != prior.triangle;
+        kept_prior += prior.valid() && !ts.empty() && out.hit.triangle == kPriorTriangle;
+        stopped_early += out.done && out.tested < l.leaf.prim_count;
+        hits_in_two_chunks += !any_hit && !prior.valid() && (hit_chunks & (hit_chunks - 1)) != 0;
+      }
+    }
+  }
+  // The merge's cases were all reached: hits found, hits kept from before the leaf, any-hit
+  // stops inside the leaf, and hits in two or more chunks of one leaf.
+  EXPECT_GT(found, 1000);
+  EXPECT_GT(kept_prior, 2000);
+  EXPECT_GT(stopped_early, 400);
+  EXPECT_GT(hits_in_two_chunks, 200);
 }
 
 #else

@@ -1,15 +1,20 @@
 // RayStepLog: a recorded ray gives back the traversal's hit and, step by step, its fetches and
-// whether each step was a leaf, as traversal_step() reports them.
+// whether each step was a leaf, as traversal_step() reports them; fetches too large or too far
+// for one word come back from the three-word form exactly.
 #include "tier/ray_step_log.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstring>
+#include <iterator>
 #include <random>
 #include <tuple>
 #include <vector>
 
 #include "kdtree/sah_builder.h"
 #include "layout/dfl_layout.h"
+#include "layout/node_view.h"
 #include "test_geometry.h"
 #include "traversal/fetch_recorder.h"
 
@@ -72,6 +77,100 @@ TEST(RayStepLogTest, RecordsEveryStepsFetchesAndTheHit) {
   EXPECT_GT(misses, 3u);
   log.clear();
   EXPECT_EQ(log.ray_count(), 0u);
+}
+
+// A chain of interior nodes at addresses on both sides of the one-word form's limit (2^43), each
+// sending every ray on to the next, ending in a leaf whose list is the image's list region.
+struct ChainDecoder {
+  static constexpr uint64_t kFarStart = uint64_t{1} << 43;  // first address of the long form
+  static constexpr uint64_t kChain[] = {0,
+                                        kFarStart - 64,
+                                        kFarStart - 1,
+                                        kFarStart,
+                                        kFarStart + 64,
+                                        ~uint64_t{0},
+                                        0x0123456789abcdefull,
+                                        128};
+  static constexpr size_t kLength = std::size(kChain);
+  static NodeView decode(const MemoryImage& image, uint64_t addr) {
+    NodeView n;
+    const size_t i = std::find(kChain, kChain + kLength, addr) - kChain;
+    if (i + 1 < kLength) {
+      n.leaf = false;
+      n.axis = 2;
+      n.split = 1e6f;  // beyond the scene's bounds: the ray goes on to the near child
+      n.below_addr = n.above_addr = kChain[i + 1];
+      return n;
+    }
+    n.prim_count = static_cast<uint32_t>(image.lists.size_bytes / 4);
+    n.list_addr = image.lists.base_addr;
+    return n;
+  }
+};
+
+TEST(RayStepLogTest, LongFetchesComeBackExactly) {
+  // The one-word form holds bytes below 2^19 - 1 and addresses below 2^43. Per image, node bytes
+  // and a leaf of `prims` triangles (all triangle 0, which the ray misses; list bytes 4 * prims)
+  // on either side of the bytes limit.
+  struct Case {
+    uint32_t node_bytes, prims;
+  };
+  const Case cases[] = {{8, 2},                    // all short but the far addresses
+                        {(1u << 19) - 2, 131071},  // node bytes 2^19 - 2, list 2^19 - 4: short
+                        {(1u << 19) - 1, 131072},  // node bytes 2^19 - 1, list 2^19: long
+                        {1u << 19, 0},             // an empty leaf
+                        {0xffffffffu, 1}};         // the triangle's id in the leaf node
+  const float far_vertices[9] = {5, 5, 5, 6, 5, 5, 5, 6, 5};
+  RayStepLog log;
+  std::vector<std::vector<Fetch>> expected;
+  for (const Case& c : cases) {
+    MemoryImage image;
+    image.node_bytes = c.node_bytes;
+    image.nodes = {0, 64};
+    image.root_addr = ChainDecoder::kChain[0];
+    image.triangles = {0, MemoryImage::kTriangleBytes};
+    image.lists = {64, 4ull * c.prims};
+    image.bytes.assign(image.lists.end_addr(), 0);
+    std::memcpy(image.bytes.data(), far_vertices, sizeof far_vertices);
+    for (int a = 0; a < 3; ++a) {
+      image.bounds_min[a] = -1.0f;
+      image.bounds_max[a] = 1.0f;
+    }
+    RayRecord r;
+    r.ray.origin = {0, 0, 0};
+    r.ray.dir = {0, 0, 1};
+    r.kind = RayKind::kPrimary;
+    EXPECT_FALSE(log.record<ChainDecoder>(image, r).valid());
+    std::vector<Fetch> want;
+    for (size_t i = 0; i < ChainDecoder::kLength; ++i)
+      want.emplace_back(int(Stream::kNode), ChainDecoder::kChain[i], c.node_bytes,
+                        i + 1 == ChainDecoder::kLength);
+    if (c.prims > 1) want.emplace_back(int(Stream::kList), 64, 4 * c.prims, false);
+    for (uint32_t k = 0; k < c.prims; ++k)
+      want.emplace_back(int(Stream::kTriangle), 0, MemoryImage::kTriangleBytes, false);
+    expected.push_back(want);
+  }
+  ASSERT_EQ(log.ray_count(), expected.size());
+  size_t long_words = 0;
+  for (size_t i = 0; i < expected.size(); ++i) {
+    const std::span<const uint64_t> words = log.ray(i);
+    const uint64_t* const end = words.data() + words.size();
+    std::vector<Fetch> got;
+    for (const uint64_t* p = words.data(); p < end;) {
+      const bool node = RayStepLog::is_node(*p);
+      const uint64_t* const first = p;
+      const RayStepLog::Fetch f = RayStepLog::next(p);
+      long_words += p - first == 3;
+      EXPECT_EQ(node, f.stream() == Stream::kNode);
+      got.emplace_back(int(f.stream()), f.addr, f.bytes, f.kind == RayStepLog::Kind::kLeaf);
+    }
+    ASSERT_EQ(got.size(), expected[i].size()) << "ray " << i;
+    for (size_t k = 0; k < got.size(); ++k)
+      ASSERT_EQ(got[k], expected[i][k]) << "ray " << i << " fetch " << k;
+  }
+  // The long form was taken where it must be: the four far nodes of the two rays with short node
+  // bytes, every node of the three with long ones, and the list of 2^19 bytes.
+  EXPECT_EQ(long_words, 2 * 4 + 3 * ChainDecoder::kLength + 1);
 }
 
 }  // namespace
