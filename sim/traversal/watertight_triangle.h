@@ -4,6 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <utility>
+#if defined(__SSE2__)
+#include <immintrin.h>
+#endif
 
 #include <glm/vec3.hpp>
 
@@ -90,6 +93,18 @@ constexpr float gamma_f(int n) {
   return !(outside | !(t > 0.0f) | !(t < t_max));
 }
 
+#if defined(__SSE2__)
+// Three floats in lanes 0..2 (lane 3 zero), the two lane rotations the barycentrics need, and
+// one lane as a float.
+inline __m128 lanes3(float a, float b, float c) { return _mm_setr_ps(a, b, c, 0.0f); }
+inline __m128 rot201(__m128 x) { return _mm_shuffle_ps(x, x, _MM_SHUFFLE(3, 1, 0, 2)); }
+inline __m128 rot120(__m128 x) { return _mm_shuffle_ps(x, x, _MM_SHUFFLE(3, 0, 2, 1)); }
+template <int i>
+inline float lane(__m128 x) {
+  return _mm_cvtss_f32(_mm_shuffle_ps(x, x, _MM_SHUFFLE(3, 3, 3, i)));
+}
+#endif
+
 // The largest of three, as std::max({a, b, c}) picks it (the first of equals), without a loop.
 inline float max3(float a, float b, float c) { return std::max(std::max(a, b), c); }
 
@@ -103,6 +118,32 @@ template <class Vertices>
 [[gnu::always_inline]] inline bool intersect_watertight(const WatertightRay& r, const Vertices& v,
                                                         float t_max, float& t, float& bu,
                                                         float& bv) {
+#if defined(__SSE2__)
+  // The same float operations as below, the three vertices in three lanes (lane 3 unused).
+  using namespace watertight_detail;
+  auto coord = [&](int k) { return lanes3(v[k], v[3 + k], v[6 + k]); };
+  const __m128 Z = _mm_sub_ps(coord(r.kz), _mm_set1_ps(r.oz));
+  const __m128 X = _mm_sub_ps(_mm_sub_ps(coord(r.kx), _mm_set1_ps(r.ox)),
+                              _mm_mul_ps(_mm_set1_ps(r.sx), Z));
+  const __m128 Y = _mm_sub_ps(_mm_sub_ps(coord(r.ky), _mm_set1_ps(r.oy)),
+                              _mm_mul_ps(_mm_set1_ps(r.sy), Z));
+  // U, V, W = Cx By - Cy Bx, Ax Cy - Ay Cx, Bx Ay - By Ax: lanes (2,0,1) times lanes (1,2,0).
+  __m128 UVW = _mm_sub_ps(_mm_mul_ps(rot201(X), rot120(Y)), _mm_mul_ps(rot201(Y), rot120(X)));
+  const float Ax = lane<0>(X), Bx = lane<1>(X), Cx = lane<2>(X);
+  const float Ay = lane<0>(Y), By = lane<1>(Y), Cy = lane<2>(Y);
+  const float Az = lane<0>(Z), Bz = lane<1>(Z), Cz = lane<2>(Z);
+  const __m128 zero = _mm_setzero_ps();
+  if (_mm_movemask_ps(_mm_cmpeq_ps(UVW, zero)) & 7) [[unlikely]] {
+    UVW = lanes3(static_cast<float>(double(Cx) * double(By) - double(Cy) * double(Bx)),
+                 static_cast<float>(double(Ax) * double(Cy) - double(Ay) * double(Cx)),
+                 static_cast<float>(double(Bx) * double(Ay) - double(By) * double(Ax)));
+  }
+  // Mixed signs: outside (one branch: bit 3 of neg + 7 is set when one is negative).
+  const int neg = _mm_movemask_ps(_mm_cmplt_ps(UVW, zero)) & 7;
+  const int pos = _mm_movemask_ps(_mm_cmpgt_ps(UVW, zero)) & 7;
+  if ((neg + 7) & (pos + 7) & 8) return false;
+  const float U = lane<0>(UVW), V = lane<1>(UVW), W = lane<2>(UVW);
+#else
   // Vertices relative to the ray origin, permuted and sheared into ray space.
   const float Az = v[r.kz] - r.oz, Bz = v[3 + r.kz] - r.oz, Cz = v[6 + r.kz] - r.oz;
   const float Ax = (v[r.kx] - r.ox) - r.sx * Az, Ay = (v[r.ky] - r.oy) - r.sy * Az;
@@ -118,6 +159,7 @@ template <class Vertices>
   }
   // Mixed signs: outside (one branch for all six tests; which way it goes is hard to predict).
   if (((U < 0.0f) | (V < 0.0f) | (W < 0.0f)) & ((U > 0.0f) | (V > 0.0f) | (W > 0.0f))) return false;
+#endif
   const float det = U + V + W;
   if (det == 0.0f) return false;  // ray in the triangle's plane, or a degenerate triangle
 
