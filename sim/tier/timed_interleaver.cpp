@@ -40,11 +40,7 @@ TimedInterleaver::~TimedInterleaver() = default;
 
 uint64_t TimedInterleaver::dram_read(uint64_t addr, uint32_t bytes, Stream s, uint64_t t) {
   // Decided at once: the queue holds this read only, so it goes when its bank is ready.
-  dram_->enqueue({dram_requests_++, addr, bytes, t * period_ps_, s});
-  done_.clear();
-  dram_->advance(dram_->next_decision_ps(), done_);
-  if (done_.size() != 1) throw std::logic_error("timed interleaver: DRAM read not decided");
-  return cycles_.div_up(done_[0].done_ps);
+  return cycles_.div_up(dram_->read_now({0, addr, bytes, t * period_ps_, s}));
 }
 
 uint64_t TimedInterleaver::l1_miss(L1Timing& l1, uint64_t line, Stream s, uint64_t c) {

@@ -133,8 +133,6 @@ class TimedInterleaver {
   L1Timing node_l1_;
   std::unique_ptr<L1Timing> data_cache_;  // nullptr: lists and triangles straight to DRAM
   std::unique_ptr<DramBackend> dram_;
-  std::vector<DramCompletion> done_;  // scratch
-  uint64_t dram_requests_ = 0;
   std::vector<Slot> slots_;
   SlotEventTree events_;  // each busy slot's next event, in EventWheel's order
   uint64_t step_free_ = 0;           // the step pipeline's next free cycle

@@ -1,6 +1,7 @@
 #include "mem/dram/fr_fcfs_dram.h"
 
 #include <algorithm>
+#include <stdexcept>
 #include <tuple>
 
 #include "util/stats.h"
@@ -33,6 +34,38 @@ void FrFcfsDram::enqueue(const DramRequest& r) {
   Channel& c = channels_[loc.channel];
   c.queue.push_back({r, loc, seq_++});
   next_decision_ps_ = std::min(next_decision_ps_, eligible_at(c, c.queue.back()));
+}
+
+uint64_t FrFcfsDram::serve(Channel& c, Bank& b, uint64_t row, const DramRequest& r,
+                           uint64_t start) {
+  uint64_t column = start;
+  if (b.open_row == row) {
+    ++row_hits_;
+  } else if (b.open_row == kNoRow) {
+    ++row_misses_;
+    column += tRCD_;
+  } else {
+    ++row_conflicts_;
+    column += tRP_ + tRCD_;
+  }
+  const uint32_t bursts = std::max<uint32_t>(1, burst_.div_up(r.bytes));
+  const uint64_t data_start = std::max(column + tCL_, c.bus_free_ps);
+  const uint64_t done = data_start + bursts * tBurst_;
+  c.bus_free_ps = done;
+  b.open_row = row;
+  b.ready_ps = column + bursts * tBurst_;
+  count(r);
+  busy_until_ps_ = std::max(busy_until_ps_, done);
+  return done;
+}
+
+uint64_t FrFcfsDram::read_now(const DramRequest& r) {
+  if (next_decision_ps_ != kNever) throw std::logic_error("DRAM read_now: requests queued");
+  const Location loc = locate(r.addr);
+  Channel& c = channels_[loc.channel];
+  Bank& b = c.banks[loc.bank];
+  ++seq_;
+  return serve(c, b, loc.row, r, std::max(r.arrival_ps, b.ready_ps));
 }
 
 void FrFcfsDram::advance(uint64_t now_ps, std::vector<DramCompletion>& out) {
@@ -68,26 +101,7 @@ void FrFcfsDram::advance(uint64_t now_ps, std::vector<DramCompletion>& out) {
       c.queue[best] = c.queue.back();
       c.queue.pop_back();
 
-      Bank& b = c.banks[q.loc.bank];
-      const uint64_t start = eligible_at(c, q);
-      uint64_t column = start;
-      if (b.open_row == q.loc.row) {
-        ++row_hits_;
-      } else if (b.open_row == kNoRow) {
-        ++row_misses_;
-        column += tRCD_;
-      } else {
-        ++row_conflicts_;
-        column += tRP_ + tRCD_;
-      }
-      const uint32_t bursts = std::max<uint32_t>(1, burst_.div_up(q.req.bytes));
-      const uint64_t data_start = std::max(column + tCL_, c.bus_free_ps);
-      const uint64_t done = data_start + bursts * tBurst_;
-      c.bus_free_ps = done;
-      b.open_row = q.loc.row;
-      b.ready_ps = column + bursts * tBurst_;
-      count(q.req);
-      busy_until_ps_ = std::max(busy_until_ps_, done);
+      const uint64_t done = serve(c, c.banks[q.loc.bank], q.loc.row, q.req, eligible_at(c, q));
       out.push_back({q.req.id, done});
     }
   }

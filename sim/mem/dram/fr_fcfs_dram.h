@@ -30,6 +30,8 @@ class FrFcfsDram final : public DramBackend {
   void enqueue(const DramRequest& r) override;
   uint64_t next_decision_ps() const override { return next_decision_ps_; }
   void advance(uint64_t now_ps, std::vector<DramCompletion>& out) override;
+  // Nothing queued: the read goes when its bank is ready, no queue or choice involved.
+  uint64_t read_now(const DramRequest& r) override;
   void write_stats(Stats& stats, const std::string& prefix) const override;
 
   struct Location {
@@ -62,6 +64,10 @@ class FrFcfsDram final : public DramBackend {
   uint64_t eligible_at(const Channel& c, const Queued& q) const {
     return std::max(q.req.arrival_ps, c.banks[q.loc.bank].ready_ps);
   }
+
+  // Schedules `r` (row `row`) on bank `b` of `c` at `start`, the later of its arrival and the
+  // bank's ready time: counts it, books the bank and the bus; returns its done_ps.
+  uint64_t serve(Channel& c, Bank& b, uint64_t row, const DramRequest& r, uint64_t start);
 
   DramParams p_;
   uint64_t tRCD_, tRP_, tCL_, tBurst_;
