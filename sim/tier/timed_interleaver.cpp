@@ -19,6 +19,7 @@ TimedInterleaver::TimedInterleaver(const MemoryImage& image, const CycleParams& 
       cycles_(period_ps_ ? period_ps_ : 1),
       data_line_(timing.unit.data_line_bytes),
       dram_(make_dram_backend(timing.dram)),
+      fr_fcfs_(dynamic_cast<FrFcfsDram*>(dram_.get())),
       slots_(static_cast<size_t>(rays_in_flight)),
       events_(static_cast<uint32_t>(rays_in_flight)),
       lanes_(timing.unit) {
@@ -40,7 +41,8 @@ TimedInterleaver::~TimedInterleaver() = default;
 
 uint64_t TimedInterleaver::dram_read(uint64_t addr, uint32_t bytes, Stream s, uint64_t t) {
   // Decided at once: the queue holds this read only, so it goes when its bank is ready.
-  return cycles_.div_up(dram_->read_now({0, addr, bytes, t * period_ps_, s}));
+  const DramRequest r{0, addr, bytes, t * period_ps_, s};
+  return cycles_.div_up(fr_fcfs_ ? fr_fcfs_->read_now(r) : dram_->read_now(r));
 }
 
 uint64_t TimedInterleaver::l1_miss(L1Timing& l1, uint64_t line, Stream s, uint64_t c) {
@@ -57,6 +59,8 @@ uint64_t TimedInterleaver::l1_miss(L1Timing& l1, uint64_t line, Stream s, uint64
   }
   ++l1.primary;
   l1.mshr_line[m] = line;
+  l1.line_filter = 0;
+  for (const uint64_t l : l1.mshr_line) l1.line_filter |= uint64_t{1} << (l & 63);
   const uint64_t line_bytes = l1.line_size.divisor();
   const uint64_t fill = dram_read(line * line_bytes, static_cast<uint32_t>(line_bytes), s,
                                   c + l1.hit_cycles);

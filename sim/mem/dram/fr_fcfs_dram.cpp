@@ -1,7 +1,6 @@
 #include "mem/dram/fr_fcfs_dram.h"
 
 #include <algorithm>
-#include <stdexcept>
 #include <tuple>
 
 #include "util/stats.h"
@@ -19,53 +18,11 @@ FrFcfsDram::FrFcfsDram(const DramParams& p)
   for (Channel& c : channels_) c.banks.resize(p.banks);
 }
 
-FrFcfsDram::Location FrFcfsDram::locate(uint64_t addr) const {
-  const uint64_t chunk = row_.div(addr);
-  const uint64_t per_channel = channel_.div(chunk);
-  Location l;
-  l.channel = static_cast<uint32_t>(chunk - per_channel * p_.channels);
-  l.bank = static_cast<uint32_t>(bank_.mod(per_channel));
-  l.row = bank_.div(per_channel);
-  return l;
-}
-
 void FrFcfsDram::enqueue(const DramRequest& r) {
   const Location loc = locate(r.addr);
   Channel& c = channels_[loc.channel];
   c.queue.push_back({r, loc, seq_++});
   next_decision_ps_ = std::min(next_decision_ps_, eligible_at(c, c.queue.back()));
-}
-
-uint64_t FrFcfsDram::serve(Channel& c, Bank& b, uint64_t row, const DramRequest& r,
-                           uint64_t start) {
-  uint64_t column = start;
-  if (b.open_row == row) {
-    ++row_hits_;
-  } else if (b.open_row == kNoRow) {
-    ++row_misses_;
-    column += tRCD_;
-  } else {
-    ++row_conflicts_;
-    column += tRP_ + tRCD_;
-  }
-  const uint32_t bursts = std::max<uint32_t>(1, burst_.div_up(r.bytes));
-  const uint64_t data_start = std::max(column + tCL_, c.bus_free_ps);
-  const uint64_t done = data_start + bursts * tBurst_;
-  c.bus_free_ps = done;
-  b.open_row = row;
-  b.ready_ps = column + bursts * tBurst_;
-  count(r);
-  busy_until_ps_ = std::max(busy_until_ps_, done);
-  return done;
-}
-
-uint64_t FrFcfsDram::read_now(const DramRequest& r) {
-  if (next_decision_ps_ != kNever) throw std::logic_error("DRAM read_now: requests queued");
-  const Location loc = locate(r.addr);
-  Channel& c = channels_[loc.channel];
-  Bank& b = c.banks[loc.bank];
-  ++seq_;
-  return serve(c, b, loc.row, r, std::max(r.arrival_ps, b.ready_ps));
 }
 
 void FrFcfsDram::advance(uint64_t now_ps, std::vector<DramCompletion>& out) {
