@@ -153,6 +153,17 @@ void TimedInterleaver::trace(std::span<const RayRecord> rays, std::span<Hit> hit
 void TimedInterleaver::time(const RayStepLog& log, bool last, FetchCache& caches,
                             const Charge& charge) {
   caches.with_inlined_node_l1([&](auto& sink) { run(log, last, sink, caches, charge); });
+  detach_from_log();
+}
+
+void TimedInterleaver::detach_from_log() {
+  for (Slot& s : slots_) {
+    if (!s.in_log) continue;
+    s.words.assign(s.next, s.end);
+    s.next = s.words.data();
+    s.end = s.next + s.words.size();
+    s.in_log = false;
+  }
 }
 
 template <class Sink>
@@ -167,9 +178,9 @@ void TimedInterleaver::run(const RayStepLog& log, bool last, Sink& sink, FetchCa
       const uint32_t pixel = log.pixel(next++);
       if (words.empty()) continue;  // misses the scene's bounds: no step at all
       Slot& s = slots_[slot];
-      s.words.assign(words.begin(), words.end());
-      s.next = s.words.data();
-      s.end = s.next + s.words.size();
+      s.next = words.data();
+      s.end = s.next + words.size();
+      s.in_log = true;
       s.pixel = pixel;
       s.phase = Phase::kStep;
       s.dram_bytes = 0;

@@ -65,9 +65,12 @@ class TimedInterleaver {
  private:
   enum class Phase : uint8_t { kStep, kLeafBody, kTriangles, kIsect };
   struct Slot {
-    std::vector<uint64_t> words;  // the ray's steps (RayStepLog), copied from its log
-    const uint64_t* next = nullptr;  // in words: the next fetch's first word
+    // The ray's steps (RayStepLog): read in its log while that is timed; what is left of them
+    // is copied into `words` when the log's timing stops (the next log may reuse its memory).
+    std::vector<uint64_t> words;
+    const uint64_t* next = nullptr;  // the next fetch's first word
     const uint64_t* end = nullptr;
+    bool in_log = false;  // next and end point into the log, not into words
     uint32_t pixel = 0;
     uint32_t tests = 0;           // of the current leaf
     Phase phase = Phase::kStep;
@@ -84,6 +87,8 @@ class TimedInterleaver {
     uint64_t line_filter = ~uint64_t{0};  // bit (line mod 64) of every MSHR's line, or more
     uint64_t primary = 0, merged = 0, stall_cycles = 0;
   };
+  // Copies the steps left of each ray that reads them in its log into the ray's slot.
+  void detach_from_log();
   // Times the rays of `log`, the next of the batch, through the caches from where the previous
   // log left off: until a slot needs a ray after the log's last, or, when `last` (the batch's
   // last log), until every ray has ended.
