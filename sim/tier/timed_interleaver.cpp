@@ -19,6 +19,7 @@ TimedInterleaver::TimedInterleaver(const MemoryImage& image, const CycleParams& 
       cycles_(period_ps_ ? period_ps_ : 1),
       data_line_(timing.unit.data_line_bytes),
       dram_(make_dram_backend(timing.dram)),
+      fr_fcfs_(dynamic_cast<FrFcfsDram*>(dram_.get())),
       slots_(static_cast<size_t>(rays_in_flight)),
       events_(static_cast<uint32_t>(rays_in_flight)),
       lanes_(timing.unit) {
@@ -40,11 +41,8 @@ TimedInterleaver::~TimedInterleaver() = default;
 
 uint64_t TimedInterleaver::dram_read(uint64_t addr, uint32_t bytes, Stream s, uint64_t t) {
   // Decided at once: the queue holds this read only, so it goes when its bank is ready.
-  dram_->enqueue({dram_requests_++, addr, bytes, t * period_ps_, s});
-  done_.clear();
-  dram_->advance(dram_->next_decision_ps(), done_);
-  if (done_.size() != 1) throw std::logic_error("timed interleaver: DRAM read not decided");
-  return cycles_.div_up(done_[0].done_ps);
+  const DramRequest r{0, addr, bytes, t * period_ps_, s};
+  return cycles_.div_up(fr_fcfs_ ? fr_fcfs_->read_now(r) : dram_->read_now(r));
 }
 
 uint64_t TimedInterleaver::l1_miss(L1Timing& l1, uint64_t line, Stream s, uint64_t c) {
@@ -61,6 +59,8 @@ uint64_t TimedInterleaver::l1_miss(L1Timing& l1, uint64_t line, Stream s, uint64
   }
   ++l1.primary;
   l1.mshr_line[m] = line;
+  l1.line_filter = 0;
+  for (const uint64_t l : l1.mshr_line) l1.line_filter |= uint64_t{1} << (l & 63);
   const uint64_t line_bytes = l1.line_size.divisor();
   const uint64_t fill = dram_read(line * line_bytes, static_cast<uint32_t>(line_bytes), s,
                                   c + l1.hit_cycles);
@@ -153,6 +153,17 @@ void TimedInterleaver::trace(std::span<const RayRecord> rays, std::span<Hit> hit
 void TimedInterleaver::time(const RayStepLog& log, bool last, FetchCache& caches,
                             const Charge& charge) {
   caches.with_inlined_node_l1([&](auto& sink) { run(log, last, sink, caches, charge); });
+  detach_from_log();
+}
+
+void TimedInterleaver::detach_from_log() {
+  for (Slot& s : slots_) {
+    if (!s.in_log) continue;
+    s.words.assign(s.next, s.end);
+    s.next = s.words.data();
+    s.end = s.next + s.words.size();
+    s.in_log = false;
+  }
 }
 
 template <class Sink>
@@ -167,9 +178,9 @@ void TimedInterleaver::run(const RayStepLog& log, bool last, Sink& sink, FetchCa
       const uint32_t pixel = log.pixel(next++);
       if (words.empty()) continue;  // misses the scene's bounds: no step at all
       Slot& s = slots_[slot];
-      s.words.assign(words.begin(), words.end());
-      s.next = s.words.data();
-      s.end = s.next + s.words.size();
+      s.next = words.data();
+      s.end = s.next + words.size();
+      s.in_log = true;
       s.pixel = pixel;
       s.phase = Phase::kStep;
       s.dram_bytes = 0;

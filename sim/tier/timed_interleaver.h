@@ -33,6 +33,7 @@
 #include "cache/stream_caches.h"
 #include "layout/memory_image.h"
 #include "mem/dram/dram_backend.h"
+#include "mem/dram/fr_fcfs_dram.h"
 #include "mem/fast_divider.h"
 #include "model/cycle_params.h"
 #include "model/isect_lanes.h"
@@ -64,9 +65,12 @@ class TimedInterleaver {
  private:
   enum class Phase : uint8_t { kStep, kLeafBody, kTriangles, kIsect };
   struct Slot {
-    std::vector<uint64_t> words;  // the ray's steps (RayStepLog), copied from its log
-    const uint64_t* next = nullptr;  // in words: the next fetch's first word
+    // The ray's steps (RayStepLog): read in its log while that is timed; what is left of them
+    // is copied into `words` when the log's timing stops (the next log may reuse its memory).
+    std::vector<uint64_t> words;
+    const uint64_t* next = nullptr;  // the next fetch's first word
     const uint64_t* end = nullptr;
+    bool in_log = false;  // next and end point into the log, not into words
     uint32_t pixel = 0;
     uint32_t tests = 0;           // of the current leaf
     Phase phase = Phase::kStep;
@@ -80,8 +84,11 @@ class TimedInterleaver {
     std::vector<uint64_t> mshr_fill;  // per MSHR: its fill's cycle (busy before it)
     uint64_t port_free = 0;
     uint64_t busy_until = 0;  // the latest fill: no MSHR is busy from here on
+    uint64_t line_filter = ~uint64_t{0};  // bit (line mod 64) of every MSHR's line, or more
     uint64_t primary = 0, merged = 0, stall_cycles = 0;
   };
+  // Copies the steps left of each ray that reads them in its log into the ray's slot.
+  void detach_from_log();
   // Times the rays of `log`, the next of the batch, through the caches from where the previous
   // log left off: until a slot needs a ray after the log's last, or, when `last` (the batch's
   // last log), until every ray has ended.
@@ -106,7 +113,8 @@ class TimedInterleaver {
                                           uint64_t t) {
     const uint64_t c = std::max(t, l1.port_free);
     l1.port_free = c + 1;
-    if (c < l1.busy_until) {  // some MSHR is busy: a merge answers at its pending fill
+    // Some MSHR is busy and may hold the line: a merge answers at its pending fill.
+    if (c < l1.busy_until && (l1.line_filter >> (line & 63) & 1)) {
       uint64_t merged_fill = 0;  // a busy MSHR's fill is after c >= 0: 0 is none
       for (size_t i = 0; i < l1.mshr_line.size(); ++i)
         merged_fill = c < l1.mshr_fill[i] && l1.mshr_line[i] == line ? l1.mshr_fill[i]
@@ -133,8 +141,7 @@ class TimedInterleaver {
   L1Timing node_l1_;
   std::unique_ptr<L1Timing> data_cache_;  // nullptr: lists and triangles straight to DRAM
   std::unique_ptr<DramBackend> dram_;
-  std::vector<DramCompletion> done_;  // scratch
-  uint64_t dram_requests_ = 0;
+  FrFcfsDram* fr_fcfs_;  // dram_ when it is the default model: its read_now without a virtual call
   std::vector<Slot> slots_;
   SlotEventTree events_;  // each busy slot's next event, in EventWheel's order
   uint64_t step_free_ = 0;           // the step pipeline's next free cycle

@@ -1,21 +1,38 @@
 #include "mem/dram/fixed_latency_dram.h"
 
 #include <algorithm>
+#include <stdexcept>
 #include <tuple>
-
 
 namespace rtusim {
 
 FixedLatencyDram::FixedLatencyDram(const DramParams& p)
     : p_(p), latency_ps_(p.latency_ps()), tBurst_ps_(p.burst_ps()) {
   validate(p, "dram");
+  row_ = FastDivider(p.row_bytes);
+  channel_ = FastDivider(p.channels);
+  burst_ = FastDivider(p.burst_bytes());
   channels_.resize(p.channels);
 }
 
 void FixedLatencyDram::enqueue(const DramRequest& r) {
-  Channel& c = channels_[(r.addr / p_.row_bytes) % p_.channels];
+  Channel& c = channel_of(r.addr);
   c.queue.push_back({r, seq_++});
   next_decision_ps_ = std::min(next_decision_ps_, r.arrival_ps);
+}
+
+uint64_t FixedLatencyDram::serve(Channel& c, const DramRequest& r) {
+  const uint32_t bursts = std::max<uint32_t>(1, burst_.div_up(r.bytes));
+  const uint64_t done = std::max(r.arrival_ps + latency_ps_, c.bus_free_ps) + bursts * tBurst_ps_;
+  c.bus_free_ps = done;
+  count(r);
+  return done;
+}
+
+uint64_t FixedLatencyDram::read_now(const DramRequest& r) {
+  if (next_decision_ps_ != kNever) throw std::logic_error("DRAM read_now: requests queued");
+  ++seq_;
+  return serve(channel_of(r.addr), r);
 }
 
 void FixedLatencyDram::advance(uint64_t now_ps, std::vector<DramCompletion>& out) {
@@ -31,12 +48,7 @@ void FixedLatencyDram::advance(uint64_t now_ps, std::vector<DramCompletion>& out
     size_t served = 0;
     for (; served < c.queue.size() && c.queue[served].req.arrival_ps <= now_ps; ++served) {
       const DramRequest& r = c.queue[served].req;
-      const uint32_t bursts =
-          std::max<uint32_t>(1, (r.bytes + p_.burst_bytes() - 1) / p_.burst_bytes());
-      const uint64_t done = std::max(r.arrival_ps + latency_ps_, c.bus_free_ps) + bursts * tBurst_ps_;
-      c.bus_free_ps = done;
-      count(r);
-      out.push_back({r.id, done});
+      out.push_back({r.id, serve(c, r)});
     }
     c.queue.erase(c.queue.begin(), c.queue.begin() + static_cast<std::ptrdiff_t>(served));
     if (!c.queue.empty()) next_decision_ps_ = std::min(next_decision_ps_, c.queue.front().req.arrival_ps);

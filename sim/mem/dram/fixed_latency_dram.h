@@ -9,6 +9,7 @@
 
 #include "mem/dram/dram_backend.h"
 #include "mem/dram/dram_params.h"
+#include "mem/fast_divider.h"
 
 namespace rtusim {
 
@@ -22,6 +23,8 @@ class FixedLatencyDram final : public DramBackend {
   void enqueue(const DramRequest& r) override;
   uint64_t next_decision_ps() const override { return next_decision_ps_; }
   void advance(uint64_t now_ps, std::vector<DramCompletion>& out) override;
+  // Nothing queued: the read has the bus as soon as it is free.
+  uint64_t read_now(const DramRequest& r) override;
   // `prefix`.requests and .bytes.{nodes,lists,triangles,total}.
   void write_stats(Stats& stats, const std::string& prefix) const override;
 
@@ -35,8 +38,13 @@ class FixedLatencyDram final : public DramBackend {
     uint64_t bus_free_ps = 0;
   };
 
+  Channel& channel_of(uint64_t addr) { return channels_[channel_.mod(row_.div(addr))]; }
+  // Serves `r` on `c` (arrived, first in line): counts it, books the bus; returns its done_ps.
+  uint64_t serve(Channel& c, const DramRequest& r);
+
   DramParams p_;
   uint64_t latency_ps_, tBurst_ps_;
+  FastDivider row_, channel_, burst_;  // address to row chunk, chunk to channel; bytes to bursts
   std::vector<Channel> channels_;
   uint64_t next_decision_ps_ = kNever;
   uint64_t seq_ = 0;

@@ -18,16 +18,6 @@ FrFcfsDram::FrFcfsDram(const DramParams& p)
   for (Channel& c : channels_) c.banks.resize(p.banks);
 }
 
-FrFcfsDram::Location FrFcfsDram::locate(uint64_t addr) const {
-  const uint64_t chunk = row_.div(addr);
-  const uint64_t per_channel = channel_.div(chunk);
-  Location l;
-  l.channel = static_cast<uint32_t>(chunk - per_channel * p_.channels);
-  l.bank = static_cast<uint32_t>(bank_.mod(per_channel));
-  l.row = bank_.div(per_channel);
-  return l;
-}
-
 void FrFcfsDram::enqueue(const DramRequest& r) {
   const Location loc = locate(r.addr);
   Channel& c = channels_[loc.channel];
@@ -68,26 +58,7 @@ void FrFcfsDram::advance(uint64_t now_ps, std::vector<DramCompletion>& out) {
       c.queue[best] = c.queue.back();
       c.queue.pop_back();
 
-      Bank& b = c.banks[q.loc.bank];
-      const uint64_t start = eligible_at(c, q);
-      uint64_t column = start;
-      if (b.open_row == q.loc.row) {
-        ++row_hits_;
-      } else if (b.open_row == kNoRow) {
-        ++row_misses_;
-        column += tRCD_;
-      } else {
-        ++row_conflicts_;
-        column += tRP_ + tRCD_;
-      }
-      const uint32_t bursts = std::max<uint32_t>(1, burst_.div_up(q.req.bytes));
-      const uint64_t data_start = std::max(column + tCL_, c.bus_free_ps);
-      const uint64_t done = data_start + bursts * tBurst_;
-      c.bus_free_ps = done;
-      b.open_row = q.loc.row;
-      b.ready_ps = column + bursts * tBurst_;
-      count(q.req);
-      busy_until_ps_ = std::max(busy_until_ps_, done);
+      const uint64_t done = serve(c, c.banks[q.loc.bank], q.loc.row, q.req, eligible_at(c, q));
       out.push_back({q.req.id, done});
     }
   }

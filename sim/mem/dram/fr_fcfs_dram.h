@@ -12,6 +12,8 @@
 // tRP + tRCD + tCL + tBurst (conflict). Not modelled: refresh, tRAS/tRC/tFAW/tRRD, bank groups,
 // the command bus, writes (the unit only reads).
 #pragma once
+#include <algorithm>
+#include <stdexcept>
 #include <vector>
 
 #include "mem/dram/dram_backend.h"
@@ -30,6 +32,8 @@ class FrFcfsDram final : public DramBackend {
   void enqueue(const DramRequest& r) override;
   uint64_t next_decision_ps() const override { return next_decision_ps_; }
   void advance(uint64_t now_ps, std::vector<DramCompletion>& out) override;
+  // Nothing queued: the read goes when its bank is ready, no queue or choice involved.
+  uint64_t read_now(const DramRequest& r) override;
   void write_stats(Stats& stats, const std::string& prefix) const override;
 
   struct Location {
@@ -63,6 +67,10 @@ class FrFcfsDram final : public DramBackend {
     return std::max(q.req.arrival_ps, c.banks[q.loc.bank].ready_ps);
   }
 
+  // Schedules `r` (row `row`) on bank `b` of `c` at `start`, the later of its arrival and the
+  // bank's ready time: counts it, books the bank and the bus; returns its done_ps.
+  uint64_t serve(Channel& c, Bank& b, uint64_t row, const DramRequest& r, uint64_t start);
+
   DramParams p_;
   uint64_t tRCD_, tRP_, tCL_, tBurst_;
   FastDivider row_, channel_, bank_, burst_;  // address to row, channel, bank; bytes to bursts
@@ -72,5 +80,48 @@ class FrFcfsDram final : public DramBackend {
   uint64_t row_hits_ = 0, row_misses_ = 0, row_conflicts_ = 0;
   uint64_t busy_until_ps_ = 0;
 };
+
+// Inline: the timed interleaver calls read_now once per DRAM read.
+inline FrFcfsDram::Location FrFcfsDram::locate(uint64_t addr) const {
+  const uint64_t chunk = row_.div(addr);
+  const uint64_t per_channel = channel_.div(chunk);
+  Location l;
+  l.channel = static_cast<uint32_t>(chunk - per_channel * p_.channels);
+  l.bank = static_cast<uint32_t>(bank_.mod(per_channel));
+  l.row = bank_.div(per_channel);
+  return l;
+}
+
+inline uint64_t FrFcfsDram::serve(Channel& c, Bank& b, uint64_t row, const DramRequest& r,
+                                  uint64_t start) {
+  uint64_t column = start;
+  if (b.open_row == row) {
+    ++row_hits_;
+  } else if (b.open_row == kNoRow) {
+    ++row_misses_;
+    column += tRCD_;
+  } else {
+    ++row_conflicts_;
+    column += tRP_ + tRCD_;
+  }
+  const uint32_t bursts = std::max<uint32_t>(1, burst_.div_up(r.bytes));
+  const uint64_t data_start = std::max(column + tCL_, c.bus_free_ps);
+  const uint64_t done = data_start + bursts * tBurst_;
+  c.bus_free_ps = done;
+  b.open_row = row;
+  b.ready_ps = column + bursts * tBurst_;
+  count(r);
+  busy_until_ps_ = std::max(busy_until_ps_, done);
+  return done;
+}
+
+inline uint64_t FrFcfsDram::read_now(const DramRequest& r) {
+  if (next_decision_ps_ != kNever) throw std::logic_error("DRAM read_now: requests queued");
+  const Location loc = locate(r.addr);
+  Channel& c = channels_[loc.channel];
+  Bank& b = c.banks[loc.bank];
+  ++seq_;
+  return serve(c, b, loc.row, r, std::max(r.arrival_ps, b.ready_ps));
+}
 
 }  // namespace rtusim
