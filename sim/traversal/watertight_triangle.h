@@ -105,6 +105,18 @@ inline float lane(__m128 x) {
 }
 #endif
 
+// The scaled barycentrics U, V, W in double, rounded to float: used when one is exactly zero in
+// float (an edge or vertex hit), so the sign decides which of the triangles sharing it is hit.
+struct Barycentrics {
+  float u, v, w;
+};
+inline Barycentrics exact_barycentrics(float Ax, float Ay, float Bx, float By, float Cx,
+                                       float Cy) {
+  return {static_cast<float>(double(Cx) * double(By) - double(Cy) * double(Bx)),
+          static_cast<float>(double(Ax) * double(Cy) - double(Ay) * double(Cx)),
+          static_cast<float>(double(Bx) * double(Ay) - double(By) * double(Ax))};
+}
+
 // The largest of three, as std::max({a, b, c}) picks it (the first of equals), without a loop.
 inline float max3(float a, float b, float c) { return std::max(std::max(a, b), c); }
 
@@ -134,9 +146,8 @@ template <class Vertices>
   const float Az = lane<0>(Z), Bz = lane<1>(Z), Cz = lane<2>(Z);
   const __m128 zero = _mm_setzero_ps();
   if (_mm_movemask_ps(_mm_cmpeq_ps(UVW, zero)) & 7) [[unlikely]] {
-    UVW = lanes3(static_cast<float>(double(Cx) * double(By) - double(Cy) * double(Bx)),
-                 static_cast<float>(double(Ax) * double(Cy) - double(Ay) * double(Cx)),
-                 static_cast<float>(double(Bx) * double(Ay) - double(By) * double(Ax)));
+    const Barycentrics e = exact_barycentrics(Ax, Ay, Bx, By, Cx, Cy);
+    UVW = lanes3(e.u, e.v, e.w);
   }
   // Mixed signs: outside (one branch: bit 3 of neg + 7 is set when one is negative).
   const int neg = _mm_movemask_ps(_mm_cmplt_ps(UVW, zero)) & 7;
@@ -153,9 +164,10 @@ template <class Vertices>
   // Scaled barycentrics; recomputed in double when one is exactly zero (edge hits).
   float U = Cx * By - Cy * Bx, V = Ax * Cy - Ay * Cx, W = Bx * Ay - By * Ax;
   if ((U == 0.0f) | (V == 0.0f) | (W == 0.0f)) [[unlikely]] {
-    U = static_cast<float>(double(Cx) * double(By) - double(Cy) * double(Bx));
-    V = static_cast<float>(double(Ax) * double(Cy) - double(Ay) * double(Cx));
-    W = static_cast<float>(double(Bx) * double(Ay) - double(By) * double(Ax));
+    const auto e = watertight_detail::exact_barycentrics(Ax, Ay, Bx, By, Cx, Cy);
+    U = e.u;
+    V = e.v;
+    W = e.w;
   }
   // Mixed signs: outside (one branch for all six tests; which way it goes is hard to predict).
   if (((U < 0.0f) | (V < 0.0f) | (W < 0.0f)) & ((U > 0.0f) | (V > 0.0f) | (W > 0.0f))) return false;
