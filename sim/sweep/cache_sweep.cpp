@@ -18,6 +18,7 @@ namespace rtusim {
 // at every larger set count, where the access changes nothing).
 struct CacheSweep::LineGroup {
   uint32_t shift = 0;
+  uint32_t coarser = 0;  // shift - the encoded lines' shift
   PerTag accesses{};
   PerTag repeats{};               // accesses to the line accessed just before
   uint64_t last_line = ~uint64_t{0};
@@ -54,44 +55,45 @@ struct CacheSweep::LineGroup {
     stopped.assign(kTags * (engines + 1), 0);
   }
 
-  void feed(std::span<const SweepFetch> fetches) {
-    constexpr size_t kAhead = 4;  // fetches between a line's prefetch and its access
-    for (size_t i = 0; i < fetches.size(); ++i) {
-      if (i + kAhead < fetches.size()) {
-        const uint64_t soon = fetches[i + kAhead].addr() >> shift;
-        if (full) full->prefetch(static_cast<uint32_t>(soon));
+  // Takes a chunk's encoded lines at this group's line size: a line that is the previous
+  // word's line again within one fetch is no access of its own here, one that repeats the line
+  // just accessed is a hit at distance 0 everywhere and changes no state.
+  void feed(const SweepChunk& chunk) {
+    for (int t = 0; t < kTags; ++t) {
+      accesses[t] += chunk.repeats[t];
+      repeats[t] += chunk.repeats[t];
+    }
+    constexpr size_t kAhead = 4;  // lines between a line's prefetch and its access
+    const uint32_t* words = chunk.words.data();
+    const size_t n = chunk.n_words;
+    for (size_t i = 0; i < n; ++i) {
+      if (full && i + kAhead < n) full->prefetch((words[i + kAhead] >> 3) >> coarser);
+      const uint32_t word = words[i], fine = word >> 3, tag = (word >> 1) & 3;
+      const uint32_t line = fine >> coarser;
+      if ((word & 1) && ((fine - 1) >> coarser) == line) continue;
+      ++accesses[tag];
+      if (line == last_line) {
+        ++repeats[tag];
+        continue;
       }
-      const SweepFetch& f = fetches[i];
-      const uint32_t bytes = f.bytes(), tag = f.tag();
-      if (bytes == 0) continue;
-      const uint64_t addr = f.addr();
-      const uint64_t first = addr >> shift, last = (addr + bytes - 1) >> shift;
-      for (uint64_t line = first; line <= last; ++line) {
-        ++accesses[tag];
-        // The line just accessed again: a hit at distance 0 everywhere, no state changes.
-        if (line == last_line) {
-          ++repeats[tag];
-          continue;
-        }
-        last_line = line;
-        if (full) ++full_hist[full->access(static_cast<uint32_t>(line))][tag];
-        if (engines == 0) continue;
-        uint64_t* h = hist.data() + tag * engines * stride;
-        size_t stop = engines;
-        if (paired) {
-          stop = paired->access(line, h);
-        } else {
-          for (size_t e = 0; e < set_stacks.size(); ++e) {
-            const uint32_t d = set_stacks[e].access(line);
-            ++h[e * stride + d];
-            if (d == 0) {
-              stop = e + 1;
-              break;
-            }
+      last_line = line;
+      if (full) ++full_hist[full->access(line)][tag];
+      if (engines == 0) continue;
+      uint64_t* h = hist.data() + tag * engines * stride;
+      size_t stop = engines;
+      if (paired) {
+        stop = paired->access(line, h);
+      } else {
+        for (size_t e = 0; e < set_stacks.size(); ++e) {
+          const uint32_t d = set_stacks[e].access(line);
+          ++h[e * stride + d];
+          if (d == 0) {
+            stop = e + 1;
+            break;
           }
         }
-        ++stopped[tag * (engines + 1) + stop];
       }
+      ++stopped[tag * (engines + 1) + stop];
     }
   }
 
@@ -137,11 +139,17 @@ CacheSweep::CacheSweep(const std::vector<CacheParams>& configs, uint64_t image_b
     std::set<uint64_t> sets;
   };
   std::map<uint32_t, std::vector<Part>> parts_of_line;
+  // The encoded lines are of the finest LRU line size: 29 bits of line number per word.
+  finest_shift_ = depth.empty() && full.empty()
+                      ? 0
+                      : static_cast<uint32_t>(std::countr_zero(std::min(
+                            depth.empty() ? UINT32_MAX : depth.begin()->first,
+                            full.empty() ? UINT32_MAX : full.begin()->first)));
+  if ((image_bytes >> finest_shift_) >= (uint64_t{1} << 29) - 1)
+    throw std::logic_error("CacheSweep: line numbers must fit 29 bits");
   for (const CacheParams& c : configs) {
     if (c.policy != "lru" || parts_of_line.count(c.line_bytes)) continue;
     const uint32_t shift = static_cast<uint32_t>(std::countr_zero(c.line_bytes));
-    if ((image_bytes >> shift) >= UINT32_MAX - 1)
-      throw std::logic_error("CacheSweep: line numbers must fit 32 bits");
     const auto full_it = full.find(c.line_bytes);
     const auto& set_depths = depth[c.line_bytes];
     const size_t weight = set_depths.size() + (full_it != full.end() ? 2 : 0);
@@ -151,6 +159,7 @@ CacheSweep::CacheSweep(const std::vector<CacheParams>& configs, uint64_t image_b
     for (size_t part = 0; part < n; ++part) {
       auto g = std::make_unique<LineGroup>();
       g->shift = shift;
+      g->coarser = shift - finest_shift_;
       if (part == 0 && full_it != full.end()) {
         g->full_capacities.assign(full_it->second.begin(), full_it->second.end());
         g->full = std::make_unique<FullyAssocLruStack>(g->full_capacities,
@@ -192,6 +201,8 @@ CacheSweep::CacheSweep(const std::vector<CacheParams>& configs, uint64_t image_b
     }
     where_.push_back(w);
   }
+  keeps_fetches_ = !side_.empty();
+  encodes_ = !groups_.empty();
 }
 
 CacheSweep::~CacheSweep() = default;
@@ -204,11 +215,15 @@ unsigned CacheSweep::parts_for(const std::vector<CacheParams>& configs, unsigned
   return (std::max(1u, threads) + n - 1) / n;
 }
 
-void CacheSweep::feed_task(size_t task, std::span<const SweepFetch> fetches) {
-  if (task < groups_.size()) return groups_[task]->feed(fetches);
+void CacheSweep::grow(SweepChunk& chunk, uint64_t words) {
+  chunk.words.resize(2 * chunk.words.size() + words);
+}
+
+void CacheSweep::feed_task(size_t task, const SweepChunk& chunk) {
+  if (task < groups_.size()) return groups_[task]->feed(chunk);
   SideCache& s = side_[task - groups_.size()];
   s.cache.visit([&](auto& cache) {
-    for (const SweepFetch& f : fetches) {
+    for (const SweepFetch& f : chunk.fetches) {
       if (f.bytes() == 0) continue;
       const uint64_t before = cache.accesses();
       s.misses[f.tag()] += cache.access_range(f.addr(), f.bytes());
@@ -218,19 +233,21 @@ void CacheSweep::feed_task(size_t task, std::span<const SweepFetch> fetches) {
 }
 
 void CacheSweep::feed(std::span<const SweepFetch> fetches) {
+  SweepChunk chunk;
+  for (const SweepFetch& f : fetches) record(chunk, f.addr(), f.bytes(), f.tag());
   const size_t n = tasks();
   const size_t workers = std::min<size_t>(threads_, n);
   if (workers <= 1) {
-    for (size_t t = 0; t < n; ++t) feed_task(t, fetches);
+    for (size_t t = 0; t < n; ++t) feed_task(t, chunk);
     return;
   }
   // Worker w takes tasks w, w + workers, ...; worker 0 is this thread.
   std::vector<std::future<void>> others;
   for (size_t w = 1; w < workers; ++w)
     others.push_back(std::async(std::launch::async, [&, w] {
-      for (size_t t = w; t < n; t += workers) feed_task(t, fetches);
+      for (size_t t = w; t < n; t += workers) feed_task(t, chunk);
     }));
-  for (size_t t = 0; t < n; t += workers) feed_task(t, fetches);
+  for (size_t t = 0; t < n; t += workers) feed_task(t, chunk);
   for (auto& f : others) f.get();
 }
 

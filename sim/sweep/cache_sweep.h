@@ -11,6 +11,7 @@
 #include <memory>
 #include <span>
 #include <stdexcept>
+#include <type_traits>
 #include <vector>
 
 #include "cache/cache_params.h"
@@ -41,10 +42,31 @@ class SweepFetch {
   uint64_t bits_;
 };
 
+// A chunk of the stream as the sweep's tasks read it, filled by CacheSweep::record(): the
+// fetches themselves when side-by-side caches simulate them, and their LRU line stream, encoded
+// once for every line size: one word per line a fetch touches at the sweep's finest LRU line
+// size, line << 3 | tag << 1 | (1 when it is not the fetch's first line), without the first
+// lines that repeat the line just before (counted in `repeats`: at every line size an access
+// that hits and changes nothing).
+struct SweepChunk {
+  size_t recorded = 0;              // fetches
+  std::vector<SweepFetch> fetches;  // empty when no side-by-side cache reads them
+  std::vector<uint32_t> words;      // the first `n_words` are this chunk's (the vector only grows)
+  size_t n_words = 0;
+  std::array<uint64_t, 3> repeats{};  // per tag
+  void clear() {
+    recorded = 0;
+    fetches.clear();
+    n_words = 0;
+    repeats = {};
+  }
+};
+
 class CacheSweep {
  public:
   static constexpr int kTags = 3;
   using PerTag = std::array<uint64_t, kTags>;
+  static_assert(std::is_same_v<PerTag, decltype(SweepChunk::repeats)>);
 
   // `configs` are valid (validate()); `image_bytes` bounds every address. The LRU set counts
   // of each line size are split into up to `parts` groups of about equal work (one per thread
@@ -59,11 +81,30 @@ class CacheSweep {
   // side-by-side caches are independent: with threads() > 1 they share out the chunk's work
   // (the counts are the same for any thread count).
   void feed(std::span<const SweepFetch> fetches);
-  // The same work as independent tasks (a line-size group, or a side-by-side cache): feeding
-  // every task every chunk, each task its chunks in order, gives feed()'s counts, whichever
-  // tasks run at the same time (SweepPipeline).
+  // The same work in two steps: record() every fetch into chunks, in order, then feed_task()
+  // every task (a line-size group, or a side-by-side cache) every chunk, each task its chunks in
+  // order, whichever tasks run at the same time (SweepPipeline).
+  [[gnu::always_inline]] void record(SweepChunk& chunk, uint64_t addr, uint32_t bytes,
+                                     uint32_t tag) {
+    ++chunk.recorded;
+    if (keeps_fetches_) [[unlikely]]
+      chunk.fetches.push_back({addr, bytes, tag});
+    if (bytes == 0 || !encodes_) return;
+    const uint64_t first = addr >> finest_shift_, last = (addr + bytes - 1) >> finest_shift_;
+    if (chunk.n_words + (last - first) + 1 > chunk.words.size()) [[unlikely]]
+      grow(chunk, last - first + 1);
+    uint32_t* w = chunk.words.data() + chunk.n_words;
+    // The first line's word is written in any case and kept unless it repeats the line before.
+    w[0] = static_cast<uint32_t>(first << 3 | tag << 1);
+    const bool repeat = first == last_recorded_;
+    chunk.repeats[tag] += repeat;
+    chunk.n_words += !repeat;
+    for (uint64_t line = first + 1; line <= last; ++line)
+      chunk.words[chunk.n_words++] = static_cast<uint32_t>(line << 3 | tag << 1 | 1);
+    last_recorded_ = last;
+  }
   size_t tasks() const { return groups_.size() + side_.size(); }
-  void feed_task(size_t task, std::span<const SweepFetch> fetches);
+  void feed_task(size_t task, const SweepChunk& chunk);
   void set_threads(unsigned n) { threads_ = n ? n : 1; }
   unsigned threads() const { return threads_; }
 
@@ -86,6 +127,11 @@ class CacheSweep {
   };
 
   std::vector<std::unique_ptr<LineGroup>> groups_;
+  static void grow(SweepChunk& chunk, uint64_t words);  // room for `words` more
+  bool keeps_fetches_ = false;             // side-by-side caches read the fetches
+  bool encodes_ = false;                   // LRU groups read the encoded lines
+  uint32_t finest_shift_ = 0;              // of the LRU line sizes: the encoded lines'
+  uint64_t last_recorded_ = ~uint64_t{0};  // the last line record() encoded
   std::vector<SideCache> side_;
   std::vector<Where> where_;
   unsigned threads_ = 1;

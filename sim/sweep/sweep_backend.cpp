@@ -13,14 +13,14 @@ struct SweepBackend::Sink {
     const int tag = static_cast<int>(s);
     ++b.fetches_[tag];
     if (s == Stream::kNode) {
-      b.chunk_[0].push_back({addr, bytes, static_cast<uint32_t>(tag)});
-      if (b.chunk_[0].size() == kChunkFetches) b.hand_off();
+      b.nodes_.record(b.chunk_[0], addr, bytes, static_cast<uint32_t>(tag));
+      if (b.chunk_[0].recorded == kChunkFetches) b.hand_off();
       return;
     }
     if (bytes != 0) b.bursts_[tag] += FetchCache::dram_bursts(addr, bytes);
     if (b.data_) {
-      b.chunk_[1].push_back({addr, bytes, static_cast<uint32_t>(tag)});
-      if (b.chunk_[1].size() == kChunkFetches) b.hand_off();
+      b.data_->record(b.chunk_[1], addr, bytes, static_cast<uint32_t>(tag));
+      if (b.chunk_[1].recorded == kChunkFetches) b.hand_off();
     }
   }
 };
@@ -36,9 +36,9 @@ std::vector<CacheSweep*> sweeps(CacheSweep& nodes, CacheSweep* data) {
 
 SweepBackend::SweepBackend(const MemoryImage& image, CacheSweep& nodes, CacheSweep* data,
                            unsigned threads)
-    : image_(image), data_(data != nullptr), pipeline_(sweeps(nodes, data), threads, kChunksHeld),
+    : image_(image), nodes_(nodes), data_(data), pipeline_(sweeps(nodes, data), threads, kChunksHeld),
       chunk_(data ? 2 : 1) {
-  for (auto& list : chunk_) list.reserve(kChunkFetches);
+  reserve();
 }
 
 SweepBackend::~SweepBackend() = default;
@@ -53,7 +53,14 @@ void SweepBackend::trace(std::span<const RayRecord> rays, std::span<Hit> hits) {
 
 void SweepBackend::hand_off() {
   pipeline_.push(chunk_);
-  for (auto& list : chunk_) list.reserve(kChunkFetches);
+  reserve();
+}
+
+void SweepBackend::reserve() {
+  for (SweepChunk& c : chunk_) {
+    c.fetches.reserve(kChunkFetches);  // pages never written (no side-by-side cache) stay unmapped
+    if (c.words.size() < kChunkFetches) c.words.resize(kChunkFetches);
+  }
 }
 
 void SweepBackend::flush() {

@@ -34,9 +34,11 @@ class SweepBackend final : public TraceBackend {
   struct Sink;
   // Sends the filled chunk off to be fed.
   void hand_off();
+  void reserve();  // room in the chunk being filled for a chunk's fetches
 
   const MemoryImage& image_;
-  bool data_;
+  CacheSweep& nodes_;
+  CacheSweep* data_;
   SweepPipeline pipeline_;
   SweepPipeline::Lists chunk_;  // being filled by the traversal: nodes, then lists and triangles
   std::array<uint64_t, 3> fetches_{}, bursts_{};

@@ -69,10 +69,10 @@ void SweepPipeline::work() {
     });
     if (!t) return;
     t->busy = true;
-    const std::vector<SweepFetch>& fetches = chunks_[t->next - first_][t->list];
+    const SweepChunk& chunk = chunks_[t->next - first_][t->list];
     lock.unlock();
     try {
-      t->sweep->feed_task(t->index, fetches);
+      t->sweep->feed_task(t->index, chunk);
     } catch (...) {
       lock.lock();
       if (!error_) error_ = std::current_exception();

@@ -19,7 +19,7 @@ namespace rtusim {
 
 class SweepPipeline {
  public:
-  using Lists = std::vector<std::vector<SweepFetch>>;  // a chunk: one fetch list per sweep
+  using Lists = std::vector<SweepChunk>;  // a chunk: one fetch list per sweep
 
   // Sweep i takes list i of every chunk.
   SweepPipeline(std::vector<CacheSweep*> sweeps, unsigned threads, size_t max_chunks);
@@ -27,7 +27,8 @@ class SweepPipeline {
   SweepPipeline(const SweepPipeline&) = delete;
   SweepPipeline& operator=(const SweepPipeline&) = delete;
 
-  // Queues `lists` (one per sweep) as the next chunk; gives back emptied lists to fill next.
+  // Queues `lists` (one per sweep, filled by its CacheSweep::record()) as the next chunk; gives
+  // back emptied lists to fill next.
   void push(Lists& lists);
   // Waits until every task has fed every chunk and stops the workers; rethrows a task's error.
   void finish();

@@ -63,7 +63,7 @@ void expect_equal_to_one_cache_each(const std::vector<const char*>& policies,
       const auto part = std::span(stream).subspan(at, std::min<size_t>(777, stream.size() - at));
       sweep.feed(part);
       whole.feed(part);
-      chunk[0].assign(part.begin(), part.end());
+      for (const SweepFetch& f : part) piped.record(chunk[0], f.addr(), f.bytes(), f.tag());
       pipeline.push(chunk);
     }
     pipeline.finish();
