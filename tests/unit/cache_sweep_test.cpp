@@ -56,17 +56,23 @@ void expect_equal_to_one_cache_each(const std::vector<const char*>& policies,
   sweep.set_threads(3);  // the groups and side caches shared out: the same counts
   CacheSweep whole(configs, image_bytes);  // one part per line: every set count in one walk
   CacheSweep piped(configs, image_bytes, 2);  // fed by a pipeline: tasks run ahead of each other
+  CacheSweep pushed(configs, image_bytes, 2);  // a pipeline without workers: the pushing thread
   {
-    SweepPipeline pipeline({&piped}, 3, 4);
-    SweepPipeline::Lists chunk(1);
+    SweepPipeline pipeline({&piped}, 3, 4), alone({&pushed}, 1, 4);
+    SweepPipeline::Lists chunk(1), chunk_alone(1);
     for (size_t at = 0; at < stream.size(); at += 777) {  // uneven chunks
       const auto part = std::span(stream).subspan(at, std::min<size_t>(777, stream.size() - at));
       sweep.feed(part);
       whole.feed(part);
-      for (const SweepFetch& f : part) piped.record(chunk[0], f.addr(), f.bytes(), f.tag());
+      for (const SweepFetch& f : part) {
+        piped.record(chunk[0], f.addr(), f.bytes(), f.tag());
+        pushed.record(chunk_alone[0], f.addr(), f.bytes(), f.tag());
+      }
       pipeline.push(chunk);
+      alone.push(chunk_alone);
     }
     pipeline.finish();
+    alone.finish();
   }
 
   for (size_t i = 0; i < configs.size(); ++i) {
@@ -86,6 +92,8 @@ void expect_equal_to_one_cache_each(const std::vector<const char*>& policies,
     EXPECT_EQ(whole.misses(i), miss);
     EXPECT_EQ(piped.accesses(i), acc);
     EXPECT_EQ(piped.misses(i), miss);
+    EXPECT_EQ(pushed.accesses(i), acc);
+    EXPECT_EQ(pushed.misses(i), miss);
     EXPECT_GT(miss[0] + miss[1] + miss[2], 0u);
   }
 }
