@@ -1,11 +1,14 @@
 // The sweep's speed: Kitchen 512x512, Whitted depth 4, DFL, 105 node-L1 points (7 sizes 1-64 KB
-// x associativity 1, 2, 4, 8, full x lines 32, 64, 128 B, LRU), measured in one run against
+// x associativity 1, 2, 4, 8, full x lines 32, 64, 128 B, LRU), and the 60-point miss-ratio
+// curve of one line size (12 sizes 1 KB-2 MB x the same associativities, 64 B lines), measured
+// in one run against
 //  - one `rtusim run` of the default point (8 KB, 4-way, 64 B): aim <= 2x its wall time;
 //  - one run per point: the median of a few sampled points' runs times the point count;
 //  - Dinero IV-style one configuration per pass over the same recorded node stream (a sample
 //    of the configurations, each one SetAssocCache pass), against the sweep's one CacheSweep
 //    pass over that stream for all of them: seconds per configuration, as a ratio.
-// Wall times (medians of three, the run and the sweep alternately) and the largest resident set of the child processes (getrusage of the children).
+// Wall times (medians of five, the run and the sweeps alternately) and the largest resident set
+// of the child processes (getrusage of the children).
 //
 // usage: sweep_bench [WIDTH]   (default 512; the scene from $RTUSIM_SCENES)
 #include <sys/resource.h>
@@ -97,32 +100,46 @@ int main(int argc, char** argv) {
     std::ofstream(tmp / "spec.toml")
         << base << "[sweep]\nl1.line = [32, 64, 128]\nl1.assoc = [1, 2, 4, 8, \"full\"]\n"
         << "l1.size = [1024, 2048, 4096, 8192, 16384, 32768, 65536]\n";
-    const int points = 105;
+    std::ofstream(tmp / "curve.toml")
+        << base << "[sweep]\nl1.line = [64]\nl1.assoc = [1, 2, 4, 8, \"full\"]\n"
+        << "l1.size = [1024, 2048, 4096, 8192, 16384, 32768, 65536, 131072, 262144, 524288, "
+           "1048576, 2097152]\n";
+    const int points = 105, curve_points = 60;
     std::printf("sweep_bench: kitchen %dx%d, Whitted depth 4, dfl, %d node-L1 points\n", width, width,
                 points);
 
-    // One run and the sweep alternately, three times each (medians: the machine is shared).
-    std::vector<double> one_s, sweep_s;
-    Measured one, sweep;
-    for (int rep = 0; rep < 3; ++rep) {
+    // One run and the sweeps alternately, five times each (medians: the machine is shared).
+    std::vector<double> one_s, sweep_s, curve_s;
+    Measured one, sweep, curve;
+    for (int rep = 0; rep < 5; ++rep) {
       const std::string r = std::to_string(rep);
       one = run_child({rtusim, "run", (tmp / "base.toml").string(), "--out", (tmp / ("run" + r)).string()});
       sweep = run_child({rtusim, "sweep", (tmp / "spec.toml").string(), "--out",
                          (tmp / ("sweep" + r)).string(), "--no-plots"});
+      curve = run_child({rtusim, "sweep", (tmp / "curve.toml").string(), "--out",
+                         (tmp / ("curve" + r)).string(), "--no-plots"});
       one_s.push_back(one.seconds);
       sweep_s.push_back(sweep.seconds);
+      curve_s.push_back(curve.seconds);
     }
     one.seconds = bench_timing::median(one_s);
     sweep.seconds = bench_timing::median(sweep_s);
+    curve.seconds = bench_timing::median(curve_s);
     std::vector<double> per_point;
     for (const char* set : {"l1.size=1024", "l1.assoc=1", "l1.line=128"})
       per_point.push_back(run_child({rtusim, "run", (tmp / "base.toml").string(), "--set", set,
                                      "--out", (tmp / ("p" + std::string(set))).string()})
                               .seconds);
     const double each = bench_timing::median(per_point);
-    std::printf("  one rtusim run (default point, median of 3)   %8.2f s   max RSS %6.1f MB\n", one.seconds, one.max_rss_mb);
-    std::printf("  rtusim sweep, %d points (median of 3, all cores) %8.2f s   max RSS %6.1f MB   %.2fx one run\n", points,
+    std::printf("  one rtusim run (default point, median of 5)   %8.2f s   max RSS %6.1f MB\n", one.seconds, one.max_rss_mb);
+    std::printf("  rtusim sweep, %d points (median of 5, all cores) %8.2f s   max RSS %6.1f MB   %.2fx one run\n", points,
                 sweep.seconds, sweep.max_rss_mb, sweep.seconds / one.seconds);
+    std::printf("  rtusim sweep, %d points, 64 B lines, 1 KB-2 MB   %8.2f s   max RSS %6.1f MB   %.2fx one run\n",
+                curve_points, curve.seconds, curve.max_rss_mb, curve.seconds / one.seconds);
+    bench_timing::print_ratio("sweep_bench", "kitchen 105 points", "sweep", sweep.seconds,
+                              "one run", one.seconds, "s");
+    bench_timing::print_ratio("sweep_bench", "kitchen 60 points (64 B)", "sweep", curve.seconds,
+                              "one run", one.seconds, "s");
     std::printf("  one run per point (median of 3 x %d) %7.1f s   the sweep is %.1fx faster\n", points,
                 each * points, each * points / sweep.seconds);
 
