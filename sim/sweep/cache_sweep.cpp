@@ -140,13 +140,13 @@ CacheSweep::CacheSweep(const std::vector<CacheParams>& configs, uint64_t image_b
   };
   std::map<uint32_t, std::vector<Part>> parts_of_line;
   // The encoded lines are of the finest LRU line size: 29 bits of line number per word.
-  finest_shift_ = depth.empty() && full.empty()
-                      ? 0
-                      : static_cast<uint32_t>(std::countr_zero(std::min(
-                            depth.empty() ? UINT32_MAX : depth.begin()->first,
-                            full.empty() ? UINT32_MAX : full.begin()->first)));
-  if ((image_bytes >> finest_shift_) >= (uint64_t{1} << 29) - 1)
-    throw std::logic_error("CacheSweep: line numbers must fit 29 bits");
+  if (!depth.empty() || !full.empty()) {
+    finest_shift_ = static_cast<uint32_t>(
+        std::countr_zero(std::min(depth.empty() ? UINT32_MAX : depth.begin()->first,
+                                  full.empty() ? UINT32_MAX : full.begin()->first)));
+    if ((image_bytes >> finest_shift_) >= (uint64_t{1} << 29) - 1)
+      throw std::logic_error("CacheSweep: line numbers must fit 29 bits");
+  }
   for (const CacheParams& c : configs) {
     if (c.policy != "lru" || parts_of_line.count(c.line_bytes)) continue;
     const uint32_t shift = static_cast<uint32_t>(std::countr_zero(c.line_bytes));

@@ -126,8 +126,9 @@ class CacheSweep {
     PerTag accesses{}, misses{};
   };
 
+  static void grow(SweepChunk& chunk, uint64_t words);  // room for `words` more words
+
   std::vector<std::unique_ptr<LineGroup>> groups_;
-  static void grow(SweepChunk& chunk, uint64_t words);  // room for `words` more
   bool keeps_fetches_ = false;             // side-by-side caches read the fetches
   bool encodes_ = false;                   // LRU groups read the encoded lines
   uint32_t finest_shift_ = 0;              // of the LRU line sizes: the encoded lines'
