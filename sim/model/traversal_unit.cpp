@@ -242,8 +242,7 @@ void TraversalUnit::process(Slot& s, uint32_t index, uint64_t t) {
   switch (s.phase) {
     case Phase::kStep: {
       s.fetches.clear();
-      Recorder rec{&s.fetches};
-      s.kind = traversal_step<Decoder>(s.st, image_, rec);
+      s.kind = traversal_step<Decoder>(s.st, image_, s.fetches);
       if (s.kind == StepKind::kDone) {  // not reached: finished rays leave after their leaf
         finish_ray(index, t);
         return;

@@ -91,7 +91,6 @@ class TraversalUnit : public sc_core::sc_module {
     kStep, kBook, kNodeWait, kLeafBody, kListWait, kTriangles, kTriWait, kIsect
   };
   using Fetch = RecordedFetch;
-  using Recorder = FetchRecorder;
   // The fields every event touches first, in one cache line; the traversal state (its stack
   // is a kilobyte) after them.
   struct alignas(64) Slot {
@@ -102,7 +101,7 @@ class TraversalUnit : public sc_core::sc_module {
     uint32_t ray = 0;
     uint32_t pending = 0;        // line requests outstanding
     uint64_t ready = 0;          // latest data cycle among them
-    std::vector<Fetch> fetches;  // of the current step, in issue order
+    FetchList fetches;           // of the current step, in issue order
     TraversalState st;
   };
 
