@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <stdexcept>
+#include <type_traits>
 
 #include "util/error.h"
 
@@ -26,6 +27,10 @@ L1Cache::L1Cache(const sc_core::sc_module_name& name, const L1Params& p)
       period_ps_(p.clock_period_ps),
       cycles_(p.clock_period_ps),
       mshrs_(p.mshrs) {
+  tags_.visit([this](auto& cache) {
+    tag_cache_ = &cache;
+    read_ = &L1Cache::read_at_as<std::remove_reference_t<decltype(cache)>>;
+  });
   for (size_t i = 0; i < mshrs_.size(); ++i) {
     mshrs_[i].tag = new FetchTag;
     mshrs_[i].tag->owner = static_cast<uint32_t>(i);
@@ -60,7 +65,8 @@ tlm::tlm_sync_enum L1Cache::nb_transport_fw(tlm::tlm_generic_payload& trans,
   return tlm::TLM_COMPLETED;
 }
 
-bool L1Cache::read_at(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t* done_ps) {
+template <class Cache>
+bool L1Cache::read_at_as(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t* done_ps) {
   const uint64_t addr = trans.get_address();
   const uint32_t len = trans.get_data_length();
   if (trans.get_command() != tlm::TLM_READ_COMMAND || len == 0 ||
@@ -70,6 +76,26 @@ bool L1Cache::read_at(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t*
     return true;
   }
   const uint64_t t = cycles_.div_up(at_ps);
+  const uint64_t c = std::max(t, next_lookup_);
+  if (!queue_.empty() || c < busy_until_ || c * period_ps_ > decidable_ps())
+    return read_at_general(trans, t, done_ps);
+  // Decidable now with no MSHR busy: no merge, and the first MSHR is the lowest free one
+  // (what lookup() does in this case).
+  next_lookup_ = c + 1;
+  uint64_t answer = 0;
+  if (static_cast<Cache*>(tag_cache_)->access(addr)) {
+    ++hits_;
+    answer = c + p_.hit_cycles;
+  } else if (primary_miss({&trans, t}, mshrs_.front(), addr >> offset_bits_, c, &answer) !=
+             Outcome::kAnswered) {
+    return false;
+  }
+  trans.set_response_status(tlm::TLM_OK_RESPONSE);
+  *done_ps = answer * period_ps_;
+  return true;
+}
+
+bool L1Cache::read_at_general(tlm::tlm_generic_payload& trans, uint64_t t, uint64_t* done_ps) {
   if (!queue_.empty()) advance();  // the downstream may have moved on
   const uint64_t c = std::max(t, next_lookup_);
   if (!queue_.empty() || c * period_ps_ > decidable_ps()) {
@@ -150,10 +176,14 @@ L1Cache::Outcome L1Cache::lookup(const Request& r, uint64_t c, uint64_t* answer_
     *answer_cycle = c + p_.hit_cycles;
     return Outcome::kAnswered;
   }
+  return primary_miss(r, *free, line, c, answer_cycle);
+}
+
+L1Cache::Outcome L1Cache::primary_miss(const Request& r, Mshr& m, uint64_t line, uint64_t c,
+                                       uint64_t* answer_cycle) {
   // A primary miss (the line is now allocated): the MSHR reads the line downstream at c + H.
   ++primary_;
   if (r.blocked_at != kUnknown) stall_cycles_ += c - r.blocked_at;
-  Mshr& m = *free;
   m.line = line;
   m.request_cycle = r.t;
   m.fill_cycle = kUnknown;

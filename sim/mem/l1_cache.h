@@ -55,8 +55,8 @@
 
 namespace rtusim {
 
-class L1Cache : public sc_core::sc_module, public NodeL1, public MemoryHorizon,
-                public CallDriven, public DirectTarget {
+class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHorizon,
+                      public CallDriven, public DirectTarget {
  public:
   tlm_utils::simple_target_socket<L1Cache> target_socket;        // from the unit
   tlm_utils::simple_initiator_socket<L1Cache> initiator_socket;  // to DRAM
@@ -91,8 +91,11 @@ class L1Cache : public sc_core::sc_module, public NodeL1, public MemoryHorizon,
     if (!on) schedule_wake();  // its process takes over from here
   }
   void act_at_horizon(uint64_t) override { advance(); }
-  // The upstream request by direct call (what nb_transport_fw does, in picoseconds).
-  bool read_at(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t* done_ps) override;
+  // The upstream request by direct call (what nb_transport_fw does, in picoseconds). Through
+  // an L1Cache* (the class is final) one indirect call into read_at_as<the tags' cache type>.
+  bool read_at(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t* done_ps) override {
+    return (this->*read_)(trans, at_ps, done_ps);
+  }
   const SetAssocCache& tags() const { return tags_; }
   const L1Params& params() const { return p_; }
 
@@ -122,8 +125,18 @@ class L1Cache : public sc_core::sc_module, public NodeL1, public MemoryHorizon,
   void advance();
   // Latest time (ps) up to which every fill is known.
   uint64_t decidable_ps() const;
+  // read_at() with the tags' concrete cache `Cache` (SetAssocCache's variant alternative):
+  // a lookup with no MSHR busy, the common case, calls its access() inline.
+  template <class Cache>
+  bool read_at_as(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t* done_ps);
+  // read_at() from its request's cycle t on, for any state of the port and the MSHRs.
+  bool read_at_general(tlm::tlm_generic_payload& trans, uint64_t t, uint64_t* done_ps);
   // The lookup of `r` at cycle c; kAnswered sets *answer_cycle.
   Outcome lookup(const Request& r, uint64_t c, uint64_t* answer_cycle);
+  // The rest of a lookup that missed with MSHR `m` free (the line is now in the tags): `m`
+  // reads the line downstream.
+  Outcome primary_miss(const Request& r, Mshr& m, uint64_t line, uint64_t c,
+                       uint64_t* answer_cycle);
   // Earliest fill cycle among the MSHRs (all busy); kUnknown if none is known.
   uint64_t first_fill() const;
   void fill(Mshr& m, uint64_t done_ps);
@@ -138,6 +151,8 @@ class L1Cache : public sc_core::sc_module, public NodeL1, public MemoryHorizon,
 
   L1Params p_;
   SetAssocCache tags_;
+  void* tag_cache_ = nullptr;  // tags_'s concrete cache, as read_ knows its type
+  bool (L1Cache::*read_)(tlm::tlm_generic_payload&, uint64_t, uint64_t*) = nullptr;
   uint32_t offset_bits_;
   uint64_t line_bytes_;
   uint64_t period_ps_;

@@ -42,7 +42,7 @@ struct CycleBackend::Top : sc_core::sc_module {
       unit.data_socket.bind(dram.target_socket);
     }
     // The C++ caches also take the unit's reads by direct call (no sc_time per request).
-    unit.set_direct_targets(dynamic_cast<DirectTarget*>(node_l1.get()), data_cache.get());
+    unit.set_direct_targets(dynamic_cast<L1Cache*>(node_l1.get()), data_cache.get());
   }
 };
 

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "layout/layout_dispatch.h"
+#include "mem/l1_cache.h"
 #include "util/error.h"
 #include "util/stats.h"
 #include "util/vcd_writer.h"
@@ -304,7 +305,7 @@ void TraversalUnit::issue(uint32_t slot, size_t first, size_t last, uint64_t t) 
     const FastDivider& lines = node ? node_line_ : data_line_;
     const uint64_t line = lines.divisor();
     auto& socket = node ? node_socket : data_socket;
-    DirectTarget* direct = node ? node_direct_ : data_direct_;
+    L1Cache* direct = node ? node_direct_ : data_direct_;
     for (uint64_t a = f.addr; a < f.addr + f.bytes;) {
       const uint64_t line_start = lines.div(a) * line;
       const uint64_t end = std::min<uint64_t>(f.addr + f.bytes, line_start + line);

@@ -45,6 +45,7 @@
 
 namespace rtusim {
 
+class L1Cache;
 class VcdWriter;
 
 class Stats;
@@ -69,9 +70,9 @@ class TraversalUnit : public sc_core::sc_module {
     else
       horizons_report_ = false;
   }
-  // The targets bound to node_socket / data_socket, if they take reads by direct call
-  // (nullptr: through the socket).
-  void set_direct_targets(DirectTarget* node, DirectTarget* data) {
+  // The targets bound to node_socket / data_socket, if they are C++ L1s, which take reads by
+  // direct call (nullptr: through the socket).
+  void set_direct_targets(L1Cache* node, L1Cache* data) {
     node_direct_ = node;
     data_direct_ = data;
   }
@@ -139,8 +140,8 @@ class TraversalUnit : public sc_core::sc_module {
   // last one it computed until a component sets horizon_moved_.
   bool horizons_report_ = true;
   bool horizon_moved_ = true;
-  DirectTarget* node_direct_ = nullptr;
-  DirectTarget* data_direct_ = nullptr;
+  L1Cache* node_direct_ = nullptr;
+  L1Cache* data_direct_ = nullptr;
   std::vector<CallDriven*> due_;  // scratch: components acted for at one horizon
   std::vector<Slot> slots_;
   EventWheel events_;
