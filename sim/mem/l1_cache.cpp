@@ -34,6 +34,7 @@ L1Cache::L1Cache(const sc_core::sc_module_name& name, const L1Params& p)
   for (size_t i = 0; i < mshrs_.size(); ++i) {
     mshrs_[i].tag = new FetchTag;
     mshrs_[i].tag->owner = static_cast<uint32_t>(i);
+    mshrs_[i].tag->reply_to = this;
     mshrs_[i].payload.set_extension(mshrs_[i].tag);
   }
   target_socket.register_nb_transport_fw(this, &L1Cache::nb_transport_fw);
@@ -123,6 +124,11 @@ bool L1Cache::read_at_general(tlm::tlm_generic_payload& trans, uint64_t t, uint6
 
 void L1Cache::respond(tlm::tlm_generic_payload& trans, uint64_t cycle) {
   trans.set_response_status(tlm::TLM_OK_RESPONSE);
+  const FetchTag* tag = trans.get_extension<FetchTag>();
+  if (tag && tag->reply_to) {
+    tag->reply_to->answered(trans, cycle * period_ps_);
+    return;
+  }
   tlm::tlm_phase phase = tlm::BEGIN_RESP;
   sc_core::sc_time delay = ps(cycle * period_ps_ - now_ps());
   target_socket->nb_transport_bw(trans, phase, delay);
@@ -261,14 +267,16 @@ void L1Cache::wake() { advance(); }
 
 tlm::tlm_sync_enum L1Cache::nb_transport_bw(tlm::tlm_generic_payload& trans,
                                             tlm::tlm_phase& phase, sc_core::sc_time& delay) {
-  if (phase == tlm::BEGIN_RESP) {
-    Mshr& m = mshrs_[trans.get_extension<FetchTag>()->owner];
-    fill(m, now_ps() + delay.value());
-    for (tlm::tlm_generic_payload* w : m.waiters) respond(*w, m.fill_cycle);
-    m.waiters.clear();
-    advance();  // a blocked port may go on
-  }
+  if (phase == tlm::BEGIN_RESP) answered(trans, now_ps() + delay.value());
   return tlm::TLM_COMPLETED;
+}
+
+void L1Cache::answered(tlm::tlm_generic_payload& trans, uint64_t at_ps) {
+  Mshr& m = mshrs_[trans.get_extension<FetchTag>()->owner];
+  fill(m, at_ps);
+  for (tlm::tlm_generic_payload* w : m.waiters) respond(*w, m.fill_cycle);
+  m.waiters.clear();
+  advance();  // a blocked port may go on
 }
 
 void L1Cache::fill(Mshr& m, uint64_t done_ps) {

@@ -56,7 +56,7 @@
 namespace rtusim {
 
 class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHorizon,
-                      public CallDriven, public DirectTarget {
+                      public CallDriven, public DirectTarget, public DirectInitiator {
  public:
   tlm_utils::simple_target_socket<L1Cache> target_socket;        // from the unit
   tlm_utils::simple_initiator_socket<L1Cache> initiator_socket;  // to DRAM
@@ -96,6 +96,8 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
   bool read_at(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t* done_ps) override {
     return (this->*read_)(trans, at_ps, done_ps);
   }
+  // A fill by direct call (the MSHRs' payloads name the cache as reply_to).
+  void answered(tlm::tlm_generic_payload& trans, uint64_t at_ps) override;
   const SetAssocCache& tags() const { return tags_; }
   const L1Params& params() const { return p_; }
 

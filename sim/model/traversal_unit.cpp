@@ -313,6 +313,7 @@ void TraversalUnit::issue(uint32_t slot, size_t first, size_t last, uint64_t t) 
       if (free_payloads_.empty()) {
         p = &payloads_.emplace_back();
         p->tag = new FetchTag;
+        p->tag->reply_to = this;
         p->set_extension(p->tag);
       } else {
         p = free_payloads_.back();

@@ -51,7 +51,7 @@ class VcdWriter;
 class Stats;
 
 
-class TraversalUnit : public sc_core::sc_module {
+class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
  public:
   tlm_utils::simple_initiator_socket<TraversalUnit> node_socket;  // to the node L1
   tlm_utils::simple_initiator_socket<TraversalUnit> data_socket;  // lists + triangles
@@ -76,6 +76,9 @@ class TraversalUnit : public sc_core::sc_module {
     node_direct_ = node;
     data_direct_ = data;
   }
+
+  // An answer by direct call (the unit's payloads name the unit as reply_to).
+  void answered(tlm::tlm_generic_payload& trans, uint64_t at_ps) override { arrived(trans, at_ps); }
 
   uint64_t steps() const { return steps_; }
   void write_stats(Stats& stats) const;  // unit.*

@@ -24,16 +24,17 @@ tlm::tlm_sync_enum Dram::nb_transport_fw(int id, tlm::tlm_generic_payload& trans
     trans.set_response_status(tlm::TLM_COMMAND_ERROR_RESPONSE);
     return tlm::TLM_COMPLETED;
   }
+  const FetchTag* tag = trans.get_extension<FetchTag>();
+  DirectInitiator* reply_to = tag ? tag->reply_to : nullptr;
   uint64_t rid;
   if (free_ids_.empty()) {
     rid = pending_.size();
-    pending_.push_back({&trans, id});
+    pending_.push_back({&trans, id, reply_to});
   } else {
     rid = free_ids_.back();
     free_ids_.pop_back();
-    pending_[rid] = {&trans, id};
+    pending_[rid] = {&trans, id, reply_to};
   }
-  const FetchTag* tag = trans.get_extension<FetchTag>();
   backend_->enqueue({rid, trans.get_address(), trans.get_data_length(),
                      now_ps() + delay.value(), tag ? tag->stream : Stream::kNode});
   update_horizon();
@@ -76,6 +77,10 @@ void Dram::decide_at(uint64_t at_ps) {
     const Pending p = pending_[c.id];
     free_ids_.push_back(c.id);
     p.trans->set_response_status(tlm::TLM_OK_RESPONSE);
+    if (p.reply_to) {
+      p.reply_to->answered(*p.trans, c.done_ps);
+      continue;
+    }
     tlm::tlm_phase phase = tlm::BEGIN_RESP;
     sc_core::sc_time delay = ps(c.done_ps - now);
     target_socket[p.socket_id]->nb_transport_bw(*p.trans, phase, delay);  // END_RESP implied

@@ -52,6 +52,7 @@ class Dram : public sc_core::sc_module, public MemoryHorizon, public CallDriven 
   struct Pending {
     tlm::tlm_generic_payload* trans;
     int socket_id;
+    DirectInitiator* reply_to;  // the payload's, if it takes its answer by direct call
   };
 
   tlm::tlm_sync_enum nb_transport_fw(int id, tlm::tlm_generic_payload& trans,
