@@ -198,11 +198,20 @@ L1Cache::Outcome L1Cache::primary_miss(const Request& r, Mshr& m, uint64_t line,
   const FetchTag* up = r.trans->get_extension<FetchTag>();
   m.tag->stream = up ? up->stream : Stream::kNode;
   init_read(m.payload, line << offset_bits_, static_cast<uint32_t>(line_bytes_));
-  tlm::tlm_phase phase = tlm::BEGIN_REQ;
-  const uint64_t now = now_ps();
-  sc_core::sc_time delay = ps((c + p_.hit_cycles) * period_ps_ - now);
-  if (initiator_socket->nb_transport_fw(m.payload, phase, delay) == tlm::TLM_COMPLETED) {
-    fill(m, now + delay.value());  // answered at once: the fill is known
+  const uint64_t read_ps = (c + p_.hit_cycles) * period_ps_;
+  bool completed;
+  uint64_t done_ps = read_ps;
+  if (downstream_direct_) {
+    completed = downstream_direct_->read_at(m.payload, read_ps, &done_ps);
+  } else {
+    tlm::tlm_phase phase = tlm::BEGIN_REQ;
+    const uint64_t now = now_ps();
+    sc_core::sc_time delay = ps(read_ps - now);
+    completed = initiator_socket->nb_transport_fw(m.payload, phase, delay) == tlm::TLM_COMPLETED;
+    done_ps = now + delay.value();
+  }
+  if (completed) {
+    fill(m, done_ps);  // answered at once: the fill is known
     *answer_cycle = m.fill_cycle;
     return Outcome::kAnswered;
   }

@@ -70,6 +70,9 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
   // The downstream's next decision (the DRAM). Without one, the downstream must answer every
   // read at once (TLM_COMPLETED).
   void set_downstream_horizon(const MemoryHorizon* h) override { downstream_horizon_ = h; }
+  // The target bound to initiator_socket, if it takes reads by direct call and answers them so
+  // (the DRAM); nullptr: through the socket.
+  void set_downstream_direct(DirectTarget* d) { downstream_direct_ = d; }
 
   uint64_t hits() const override { return hits_; }
   uint64_t primary_misses() const override { return primary_; }
@@ -160,6 +163,7 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
   uint64_t period_ps_;
   FastDivider cycles_;  // picoseconds to cycles
   const MemoryHorizon* downstream_horizon_ = nullptr;
+  DirectTarget* downstream_direct_ = nullptr;
   std::vector<Mshr> mshrs_;
   uint64_t busy_until_ = 0;  // the latest fill cycle among them (kUnknown: one is not known)
   std::deque<Request> queue_;     // not looked up yet, arrival order

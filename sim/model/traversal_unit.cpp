@@ -305,7 +305,7 @@ void TraversalUnit::issue(uint32_t slot, size_t first, size_t last, uint64_t t) 
     const FastDivider& lines = node ? node_line_ : data_line_;
     const uint64_t line = lines.divisor();
     auto& socket = node ? node_socket : data_socket;
-    L1Cache* direct = node ? node_direct_ : data_direct_;
+    DirectTarget* direct = node ? node_direct_ : data_direct_;
     for (uint64_t a = f.addr; a < f.addr + f.bytes;) {
       const uint64_t line_start = lines.div(a) * line;
       const uint64_t end = std::min<uint64_t>(f.addr + f.bytes, line_start + line);
@@ -328,7 +328,10 @@ void TraversalUnit::issue(uint32_t slot, size_t first, size_t last, uint64_t t) 
       ++s.pending;
       if (direct) {
         uint64_t done_ps = 0;
-        if (direct->read_at(*p, at_ps, &done_ps)) arrived(*p, done_ps);
+        // The node L1 called as an L1Cache: no virtual call on the hot path.
+        if (node ? node_direct_->read_at(*p, at_ps, &done_ps)
+                 : direct->read_at(*p, at_ps, &done_ps))
+          arrived(*p, done_ps);
       } else {
         tlm::tlm_phase phase = tlm::BEGIN_REQ;
         sc_core::sc_time delay = ps(at_ps - now_ps());

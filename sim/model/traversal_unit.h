@@ -70,9 +70,9 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
     else
       horizons_report_ = false;
   }
-  // The targets bound to node_socket / data_socket, if they are C++ L1s, which take reads by
-  // direct call (nullptr: through the socket).
-  void set_direct_targets(L1Cache* node, L1Cache* data) {
+  // The targets bound to node_socket / data_socket, if they take reads by direct call (a C++
+  // L1 for the nodes; the data cache or the DRAM for the rest); nullptr: through the socket.
+  void set_direct_targets(L1Cache* node, DirectTarget* data) {
     node_direct_ = node;
     data_direct_ = data;
   }
@@ -144,7 +144,7 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
   bool horizons_report_ = true;
   bool horizon_moved_ = true;
   L1Cache* node_direct_ = nullptr;
-  L1Cache* data_direct_ = nullptr;
+  DirectTarget* data_direct_ = nullptr;
   std::vector<CallDriven*> due_;  // scratch: components acted for at one horizon
   std::vector<Slot> slots_;
   EventWheel events_;

@@ -3,6 +3,7 @@
 #include "mem/dram/dram_backends.h"
 
 #include <algorithm>
+#include <stdexcept>
 
 namespace rtusim {
 
@@ -24,23 +25,40 @@ tlm::tlm_sync_enum Dram::nb_transport_fw(int id, tlm::tlm_generic_payload& trans
     trans.set_response_status(tlm::TLM_COMMAND_ERROR_RESPONSE);
     return tlm::TLM_COMPLETED;
   }
+  accept(trans, id, now_ps() + delay.value());
+  phase = tlm::END_REQ;
+  return tlm::TLM_UPDATED;
+}
+
+bool Dram::read_at(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t* done_ps) {
+  if (trans.get_command() != tlm::TLM_READ_COMMAND) {
+    trans.set_response_status(tlm::TLM_COMMAND_ERROR_RESPONSE);
+    *done_ps = at_ps;
+    return true;
+  }
+  const FetchTag* tag = trans.get_extension<FetchTag>();
+  if (!tag || !tag->reply_to)
+    throw std::logic_error("DRAM read_at: the payload names no initiator to answer");
+  accept(trans, -1, at_ps);
+  return false;
+}
+
+void Dram::accept(tlm::tlm_generic_payload& trans, int socket_id, uint64_t arrival_ps) {
   const FetchTag* tag = trans.get_extension<FetchTag>();
   DirectInitiator* reply_to = tag ? tag->reply_to : nullptr;
   uint64_t rid;
   if (free_ids_.empty()) {
     rid = pending_.size();
-    pending_.push_back({&trans, id, reply_to});
+    pending_.push_back({&trans, socket_id, reply_to});
   } else {
     rid = free_ids_.back();
     free_ids_.pop_back();
-    pending_[rid] = {&trans, id, reply_to};
+    pending_[rid] = {&trans, socket_id, reply_to};
   }
-  backend_->enqueue({rid, trans.get_address(), trans.get_data_length(),
-                     now_ps() + delay.value(), tag ? tag->stream : Stream::kNode});
+  backend_->enqueue({rid, trans.get_address(), trans.get_data_length(), arrival_ps,
+                     tag ? tag->stream : Stream::kNode});
   update_horizon();
   schedule_wakeup();
-  phase = tlm::END_REQ;
-  return tlm::TLM_UPDATED;
 }
 
 void Dram::schedule_wakeup() {
