@@ -26,7 +26,9 @@ L1Cache::L1Cache(const sc_core::sc_module_name& name, const L1Params& p)
       line_bytes_(p.cache.line_bytes),
       period_ps_(p.clock_period_ps),
       cycles_(p.clock_period_ps),
-      mshrs_(p.mshrs) {
+      mshrs_(p.mshrs),
+      mshr_line_(p.mshrs, 0),
+      mshr_fill_(p.mshrs, 0) {
   tags_.visit([this](auto& cache) {
     tag_cache_ = &cache;
     read_ = &L1Cache::read_at_as<std::remove_reference_t<decltype(cache)>>;
@@ -87,7 +89,7 @@ bool L1Cache::read_at_as(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64
   if (static_cast<Cache*>(tag_cache_)->access(addr)) {
     ++hits_;
     answer = c + p_.hit_cycles;
-  } else if (primary_miss({&trans, t}, mshrs_.front(), addr >> offset_bits_, c, &answer) !=
+  } else if (primary_miss({&trans, t}, 0, addr >> offset_bits_, c, &answer) !=
              Outcome::kAnswered) {
     return false;
   }
@@ -144,37 +146,44 @@ uint64_t L1Cache::decidable_ps() const {
 
 uint64_t L1Cache::first_fill() const {
   uint64_t first = kUnknown;
-  for (const Mshr& m : mshrs_) first = std::min(first, m.fill_cycle);
+  for (const uint64_t f : mshr_fill_) first = std::min(first, f);
   return first;
 }
 
 L1Cache::Outcome L1Cache::lookup(const Request& r, uint64_t c, uint64_t* answer_cycle) {
   const uint64_t addr = r.trans->get_address();
   const uint64_t line = addr >> offset_bits_;
-  // One pass: a busy MSHR for the line (a merge) and the lowest free one.
-  Mshr* match = nullptr;
-  Mshr* free = nullptr;
+  // A busy MSHR for the line (a merge; the last such, should there be several) and the lowest
+  // free one; none: n.
+  const size_t n = mshrs_.size();
+  size_t match = n, free = n;
   if (c >= busy_until_) {  // none busy (the common case): the first is the lowest free one
-    free = &mshrs_.front();
+    free = 0;
   } else {
-    for (Mshr& m : mshrs_) {
-      if (m.busy_at(c)) {
-        if (m.line == line) match = &m;
-      } else if (!free) {
-        free = &m;
+    // 64 MSHRs at a time, as bit masks.
+    for (size_t base = 0; base < n; base += 64) {
+      const size_t k = std::min<size_t>(64, n - base);
+      uint64_t busy = 0, same = 0;
+      for (size_t i = 0; i < k; ++i) {
+        busy |= uint64_t{c < mshr_fill_[base + i]} << i;
+        same |= uint64_t{mshr_line_[base + i] == line} << i;
       }
+      if (const uint64_t merge = busy & same)
+        match = base + 63 - static_cast<size_t>(std::countl_zero(merge));
+      const uint64_t idle = ~busy & (~uint64_t{0} >> (64 - k));
+      if (free == n && idle) free = base + static_cast<size_t>(std::countr_zero(idle));
     }
   }
-  if (!match && !free && !tags_.contains(addr)) return Outcome::kBlocked;
+  if (match == n && free == n && !tags_.contains(addr)) return Outcome::kBlocked;
   next_lookup_ = c + 1;
-  if (match) {
+  if (match != n) {
     ++merged_;
     tags_.access(addr);  // every lookup is one tag access
-    if (match->fill_cycle != kUnknown) {
-      *answer_cycle = match->fill_cycle;
+    if (mshr_fill_[match] != kUnknown) {
+      *answer_cycle = mshr_fill_[match];
       return Outcome::kAnswered;
     }
-    match->waiters.push_back(r.trans);
+    mshrs_[match].waiters.push_back(r.trans);
     return Outcome::kWaiting;
   }
   if (tags_.access(addr)) {
@@ -182,17 +191,18 @@ L1Cache::Outcome L1Cache::lookup(const Request& r, uint64_t c, uint64_t* answer_
     *answer_cycle = c + p_.hit_cycles;
     return Outcome::kAnswered;
   }
-  return primary_miss(r, *free, line, c, answer_cycle);
+  return primary_miss(r, free, line, c, answer_cycle);
 }
 
-L1Cache::Outcome L1Cache::primary_miss(const Request& r, Mshr& m, uint64_t line, uint64_t c,
-                                       uint64_t* answer_cycle) {
+L1Cache::Outcome L1Cache::primary_miss(const Request& r, size_t index, uint64_t line,
+                                       uint64_t c, uint64_t* answer_cycle) {
   // A primary miss (the line is now allocated): the MSHR reads the line downstream at c + H.
   ++primary_;
   if (r.blocked_at != kUnknown) stall_cycles_ += c - r.blocked_at;
-  m.line = line;
+  Mshr& m = mshrs_[index];
+  mshr_line_[index] = line;
   m.request_cycle = r.t;
-  m.fill_cycle = kUnknown;
+  mshr_fill_[index] = kUnknown;
   busy_until_ = kUnknown;
   m.waiters.clear();
   const FetchTag* up = r.trans->get_extension<FetchTag>();
@@ -211,8 +221,8 @@ L1Cache::Outcome L1Cache::primary_miss(const Request& r, Mshr& m, uint64_t line,
     done_ps = now + delay.value();
   }
   if (completed) {
-    fill(m, done_ps);  // answered at once: the fill is known
-    *answer_cycle = m.fill_cycle;
+    fill(index, done_ps);  // answered at once: the fill is known
+    *answer_cycle = mshr_fill_[index];
     return Outcome::kAnswered;
   }
   m.waiters.push_back(r.trans);
@@ -281,20 +291,21 @@ tlm::tlm_sync_enum L1Cache::nb_transport_bw(tlm::tlm_generic_payload& trans,
 }
 
 void L1Cache::answered(tlm::tlm_generic_payload& trans, uint64_t at_ps) {
-  Mshr& m = mshrs_[trans.get_extension<FetchTag>()->owner];
-  fill(m, at_ps);
-  for (tlm::tlm_generic_payload* w : m.waiters) respond(*w, m.fill_cycle);
+  const size_t index = trans.get_extension<FetchTag>()->owner;
+  Mshr& m = mshrs_[index];
+  fill(index, at_ps);
+  for (tlm::tlm_generic_payload* w : m.waiters) respond(*w, mshr_fill_[index]);
   m.waiters.clear();
   advance();  // a blocked port may go on
 }
 
-void L1Cache::fill(Mshr& m, uint64_t done_ps) {
+void L1Cache::fill(size_t m, uint64_t done_ps) {
   // One fill per cycle: the first cycle at or after the completion that no known fill holds.
   uint64_t c = cycles_.div_up(done_ps);
   for (bool taken = true; taken;) {
     taken = false;
-    for (const Mshr& o : mshrs_)
-      if (&o != &m && o.fill_cycle == c) {
+    for (size_t o = 0; o < mshr_fill_.size(); ++o)
+      if (o != m && mshr_fill_[o] == c) {
         ++c;
         taken = true;
       }
@@ -304,11 +315,11 @@ void L1Cache::fill(Mshr& m, uint64_t done_ps) {
     throw std::logic_error(std::string(name()) + ": a fill at cycle " + std::to_string(c) +
                            " became known after the lookup at cycle " +
                            std::to_string(next_lookup_ - 1) + " (the downstream decided late)");
-  m.fill_cycle = c;
+  mshr_fill_[m] = c;
   busy_until_ = 0;
-  for (const Mshr& o : mshrs_) busy_until_ = std::max(busy_until_, o.fill_cycle);
+  for (const uint64_t f : mshr_fill_) busy_until_ = std::max(busy_until_, f);
   ++fills_;
-  miss_latency_cycles_ += c - m.request_cycle;
+  miss_latency_cycles_ += c - mshrs_[m].request_cycle;
 }
 
 }  // namespace rtusim

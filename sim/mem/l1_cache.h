@@ -111,14 +111,12 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
     uint64_t t;                       // its time (cycle)
     uint64_t blocked_at = kUnknown;   // first cycle it was refused for want of an MSHR
   };
+  // An MSHR's line and fill cycle are in mshr_line_ / mshr_fill_ at its index.
   struct Mshr {
-    uint64_t line = 0;
     uint64_t request_cycle = 0;  // the primary request's time
-    uint64_t fill_cycle = 0;     // busy until here (kUnknown until the downstream answers)
     std::vector<tlm::tlm_generic_payload*> waiters;  // answered at the fill
     tlm::tlm_generic_payload payload;  // the line read; owns its FetchTag
     FetchTag* tag = nullptr;
-    bool busy_at(uint64_t c) const { return c < fill_cycle; }
   };
   enum class Outcome { kAnswered, kWaiting, kBlocked };
 
@@ -140,11 +138,11 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
   Outcome lookup(const Request& r, uint64_t c, uint64_t* answer_cycle);
   // The rest of a lookup that missed with MSHR `m` free (the line is now in the tags): `m`
   // reads the line downstream.
-  Outcome primary_miss(const Request& r, Mshr& m, uint64_t line, uint64_t c,
+  Outcome primary_miss(const Request& r, size_t m, uint64_t line, uint64_t c,
                        uint64_t* answer_cycle);
   // Earliest fill cycle among the MSHRs (all busy); kUnknown if none is known.
   uint64_t first_fill() const;
-  void fill(Mshr& m, uint64_t done_ps);
+  void fill(size_t m, uint64_t done_ps);
   void respond(tlm::tlm_generic_payload& trans, uint64_t cycle);
   // Recomputes the horizon after the lookup port's state may have changed; tells the watchers
   // if it moved. Every change that can move it (a request queued, advance()) ends in
@@ -165,6 +163,9 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
   const MemoryHorizon* downstream_horizon_ = nullptr;
   DirectTarget* downstream_direct_ = nullptr;
   std::vector<Mshr> mshrs_;
+  // Per MSHR, in arrays a lookup scans without a branch per MSHR: its line, and the cycle it is
+  // busy until (kUnknown until the downstream answers; busy at c while c < it).
+  std::vector<uint64_t> mshr_line_, mshr_fill_;
   uint64_t busy_until_ = 0;  // the latest fill cycle among them (kUnknown: one is not known)
   std::deque<Request> queue_;     // not looked up yet, arrival order
   uint64_t next_lookup_ = 0;      // the port's next free cycle
