@@ -36,7 +36,6 @@ L1Cache::L1Cache(const sc_core::sc_module_name& name, const L1Params& p)
   for (size_t i = 0; i < mshrs_.size(); ++i) {
     mshrs_[i].tag = new FetchTag;
     mshrs_[i].tag->owner = static_cast<uint32_t>(i);
-    mshrs_[i].tag->reply_to = this;
     mshrs_[i].payload.set_extension(mshrs_[i].tag);
   }
   target_socket.register_nb_transport_fw(this, &L1Cache::nb_transport_fw);
@@ -207,6 +206,7 @@ L1Cache::Outcome L1Cache::primary_miss(const Request& r, size_t index, uint64_t 
   m.waiters.clear();
   const FetchTag* up = r.trans->get_extension<FetchTag>();
   m.tag->stream = up ? up->stream : Stream::kNode;
+  m.tag->reply_to = downstream_direct_ ? this : nullptr;  // answered as it is sent
   init_read(m.payload, line << offset_bits_, static_cast<uint32_t>(line_bytes_));
   const uint64_t read_ps = (c + p_.hit_cycles) * period_ps_;
   bool completed;

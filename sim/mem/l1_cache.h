@@ -99,7 +99,8 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
   bool read_at(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t* done_ps) override {
     return (this->*read_)(trans, at_ps, done_ps);
   }
-  // A fill by direct call (the MSHRs' payloads name the cache as reply_to).
+  // A fill by direct call (the MSHRs' reads name the cache as reply_to when they go by direct
+  // call).
   void answered(tlm::tlm_generic_payload& trans, uint64_t at_ps) override;
   const SetAssocCache& tags() const { return tags_; }
   const L1Params& params() const { return p_; }

@@ -68,6 +68,9 @@ class DirectTarget {
 // An initiator that also takes answers by direct call: what its nb_transport_bw does with
 // BEGIN_RESP (the response status set), at absolute time `at_ps`, without the socket or sc_time
 // arithmetic. A target answers so every payload whose FetchTag names the initiator (reply_to).
+// An initiator names itself only on the reads it sends by direct call (DirectTarget::read_at),
+// never on those it sends through its socket: a module in between (a recorder, an adapter)
+// sees every answer to what passed through it.
 class DirectInitiator {
  public:
   virtual ~DirectInitiator() = default;

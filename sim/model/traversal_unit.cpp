@@ -313,7 +313,6 @@ void TraversalUnit::issue(uint32_t slot, size_t first, size_t last, uint64_t t) 
       if (free_payloads_.empty()) {
         p = &payloads_.emplace_back();
         p->tag = new FetchTag;
-        p->tag->reply_to = this;
         p->set_extension(p->tag);
       } else {
         p = free_payloads_.back();
@@ -322,6 +321,7 @@ void TraversalUnit::issue(uint32_t slot, size_t first, size_t last, uint64_t t) 
       FetchTag* tag = p->tag;
       tag->stream = f.stream;
       tag->owner = slot;
+      tag->reply_to = direct ? this : nullptr;  // answered as it was sent
       // One request per line touched, for the whole line: the caches fill lines, and a data
       // path straight to DRAM reads whole bursts (the functional tier's accounting).
       init_read(*p, line_start, static_cast<uint32_t>(line));

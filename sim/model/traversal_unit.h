@@ -77,7 +77,7 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
     data_direct_ = data;
   }
 
-  // An answer by direct call (the unit's payloads name the unit as reply_to).
+  // An answer by direct call (the unit's reads by direct call name the unit as reply_to).
   void answered(tlm::tlm_generic_payload& trans, uint64_t at_ps) override { arrived(trans, at_ps); }
 
   uint64_t steps() const { return steps_; }

@@ -56,13 +56,15 @@ class Dram final : public sc_core::sc_module, public MemoryHorizon, public CallD
   struct Pending {
     tlm::tlm_generic_payload* trans;
     int socket_id;
-    DirectInitiator* reply_to;  // the payload's, if it takes its answer by direct call
+    DirectInitiator* reply_to;  // answered by direct call to it, if not nullptr
   };
 
   tlm::tlm_sync_enum nb_transport_fw(int id, tlm::tlm_generic_payload& trans,
                                      tlm::tlm_phase& phase, sc_core::sc_time& delay);
-  // Queues a READ that reaches the controller at `arrival_ps`, from socket `socket_id`.
-  void accept(tlm::tlm_generic_payload& trans, int socket_id, uint64_t arrival_ps);
+  // Queues a READ that reaches the controller at `arrival_ps`, answered through socket
+  // `socket_id` or, if not nullptr, by direct call to `reply_to`.
+  void accept(tlm::tlm_generic_payload& trans, int socket_id, DirectInitiator* reply_to,
+              uint64_t arrival_ps);
   void decide();  // SC_METHOD: the decisions due at the kernel's time
   // Makes the decisions due at `at_ps` (>= the kernel's time) and answers them.
   void decide_at(uint64_t at_ps);
