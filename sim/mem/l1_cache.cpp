@@ -79,7 +79,7 @@ bool L1Cache::read_at_as(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64
   }
   const uint64_t t = cycles_.div_up(at_ps);
   const uint64_t c = std::max(t, next_lookup_);
-  if (!queue_.empty() || c < busy_until_ || c * period_ps_ > decidable_ps())
+  if (!queue_empty() || c < busy_until_ || c * period_ps_ > decidable_ps())
     return read_at_general(trans, t, done_ps);
   // Decidable now with no MSHR busy: no merge, and the first MSHR is the lowest free one
   // (what lookup() does in this case).
@@ -98,9 +98,9 @@ bool L1Cache::read_at_as(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64
 }
 
 bool L1Cache::read_at_general(tlm::tlm_generic_payload& trans, uint64_t t, uint64_t* done_ps) {
-  if (!queue_.empty()) advance();  // the downstream may have moved on
+  if (!queue_empty()) advance();  // the downstream may have moved on
   const uint64_t c = std::max(t, next_lookup_);
-  if (!queue_.empty() || c * period_ps_ > decidable_ps()) {
+  if (!queue_empty() || c * period_ps_ > decidable_ps()) {
     queue_.push_back({&trans, t});  // behind the backlog: the wake-up is set
     schedule_wake();
     return false;
@@ -230,8 +230,8 @@ L1Cache::Outcome L1Cache::primary_miss(const Request& r, size_t index, uint64_t 
 }
 
 void L1Cache::advance() {
-  while (!queue_.empty()) {
-    Request& r = queue_.front();
+  while (!queue_empty()) {
+    Request& r = queue_front();
     const uint64_t limit = decidable_ps();
     uint64_t c;
     if (r.blocked_at != kUnknown) {
@@ -250,7 +250,7 @@ void L1Cache::advance() {
       continue;
     }
     tlm::tlm_generic_payload* trans = r.trans;
-    queue_.pop_front();
+    queue_pop();
     if (o == Outcome::kAnswered) respond(*trans, answer);
   }
   schedule_wake();
@@ -266,8 +266,8 @@ void L1Cache::schedule_wake() {
 
 void L1Cache::update_horizon() {
   uint64_t h = kNever;
-  if (!queue_.empty()) {
-    const Request& r = queue_.front();
+  if (!queue_empty()) {
+    const Request& r = queue_front();
     if (r.blocked_at != kUnknown) {
       const uint64_t c = first_fill();  // unknown: the downstream's horizon bounds the initiator
       h = c == kUnknown ? kNever : c * period_ps_;

@@ -37,7 +37,7 @@
 // latency (fill cycle - request time t: port wait and stall included).
 #pragma once
 #include <cstdint>
-#include <deque>
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -168,7 +168,23 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
   // busy until (kUnknown until the downstream answers; busy at c while c < it).
   std::vector<uint64_t> mshr_line_, mshr_fill_;
   uint64_t busy_until_ = 0;  // the latest fill cycle among them (kUnknown: one is not known)
-  std::deque<Request> queue_;     // not looked up yet, arrival order
+  // Requests not looked up yet, in arrival order: queue_[queue_head_ ..]. A vector taken from
+  // the front (a std::deque's push and pop are calls): emptied whenever the last is taken, and
+  // its taken front dropped when it is most of it.
+  std::vector<Request> queue_;
+  size_t queue_head_ = 0;
+  bool queue_empty() const { return queue_head_ == queue_.size(); }
+  Request& queue_front() { return queue_[queue_head_]; }
+  const Request& queue_front() const { return queue_[queue_head_]; }
+  void queue_pop() {
+    if (++queue_head_ == queue_.size()) {
+      queue_.clear();
+      queue_head_ = 0;
+    } else if (queue_head_ >= 1024 && 2 * queue_head_ >= queue_.size()) {
+      queue_.erase(queue_.begin(), queue_.begin() + static_cast<std::ptrdiff_t>(queue_head_));
+      queue_head_ = 0;
+    }
+  }
   uint64_t next_lookup_ = 0;      // the port's next free cycle
   uint64_t horizon_ps_ = kNever;  // as update_horizon() last found it
   sc_core::sc_event wake_;
