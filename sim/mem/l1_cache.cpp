@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <stdexcept>
+#include <type_traits>
 
 #include "util/error.h"
 
@@ -25,7 +26,13 @@ L1Cache::L1Cache(const sc_core::sc_module_name& name, const L1Params& p)
       line_bytes_(p.cache.line_bytes),
       period_ps_(p.clock_period_ps),
       cycles_(p.clock_period_ps),
-      mshrs_(p.mshrs) {
+      mshrs_(p.mshrs),
+      mshr_line_(p.mshrs, 0),
+      mshr_fill_(p.mshrs, 0) {
+  tags_.visit([this](auto& cache) {
+    tag_cache_ = &cache;
+    read_ = &L1Cache::read_at_as<std::remove_reference_t<decltype(cache)>>;
+  });
   for (size_t i = 0; i < mshrs_.size(); ++i) {
     mshrs_[i].tag = new FetchTag;
     mshrs_[i].tag->owner = static_cast<uint32_t>(i);
@@ -60,7 +67,8 @@ tlm::tlm_sync_enum L1Cache::nb_transport_fw(tlm::tlm_generic_payload& trans,
   return tlm::TLM_COMPLETED;
 }
 
-bool L1Cache::read_at(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t* done_ps) {
+template <class Cache>
+bool L1Cache::read_at_as(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t* done_ps) {
   const uint64_t addr = trans.get_address();
   const uint32_t len = trans.get_data_length();
   if (trans.get_command() != tlm::TLM_READ_COMMAND || len == 0 ||
@@ -70,9 +78,29 @@ bool L1Cache::read_at(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t*
     return true;
   }
   const uint64_t t = cycles_.div_up(at_ps);
-  if (!queue_.empty()) advance();  // the downstream may have moved on
   const uint64_t c = std::max(t, next_lookup_);
-  if (!queue_.empty() || c * period_ps_ > decidable_ps()) {
+  if (!queue_empty() || c < busy_until_ || c * period_ps_ > decidable_ps())
+    return read_at_general(trans, t, done_ps);
+  // Decidable now with no MSHR busy: no merge, and the first MSHR is the lowest free one
+  // (what lookup() does in this case).
+  next_lookup_ = c + 1;
+  uint64_t answer = 0;
+  if (static_cast<Cache*>(tag_cache_)->access(addr)) {
+    ++hits_;
+    answer = c + p_.hit_cycles;
+  } else if (primary_miss({&trans, t}, 0, addr >> offset_bits_, c, &answer) !=
+             Outcome::kAnswered) {
+    return false;
+  }
+  trans.set_response_status(tlm::TLM_OK_RESPONSE);
+  *done_ps = answer * period_ps_;
+  return true;
+}
+
+bool L1Cache::read_at_general(tlm::tlm_generic_payload& trans, uint64_t t, uint64_t* done_ps) {
+  if (!queue_empty()) advance();  // the downstream may have moved on
+  const uint64_t c = std::max(t, next_lookup_);
+  if (!queue_empty() || c * period_ps_ > decidable_ps()) {
     queue_.push_back({&trans, t});  // behind the backlog: the wake-up is set
     schedule_wake();
     return false;
@@ -97,6 +125,11 @@ bool L1Cache::read_at(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t*
 
 void L1Cache::respond(tlm::tlm_generic_payload& trans, uint64_t cycle) {
   trans.set_response_status(tlm::TLM_OK_RESPONSE);
+  const FetchTag* tag = trans.get_extension<FetchTag>();
+  if (tag && tag->reply_to) {
+    tag->reply_to->answered(trans, cycle * period_ps_);
+    return;
+  }
   tlm::tlm_phase phase = tlm::BEGIN_RESP;
   sc_core::sc_time delay = ps(cycle * period_ps_ - now_ps());
   target_socket->nb_transport_bw(trans, phase, delay);
@@ -112,37 +145,44 @@ uint64_t L1Cache::decidable_ps() const {
 
 uint64_t L1Cache::first_fill() const {
   uint64_t first = kUnknown;
-  for (const Mshr& m : mshrs_) first = std::min(first, m.fill_cycle);
+  for (const uint64_t f : mshr_fill_) first = std::min(first, f);
   return first;
 }
 
 L1Cache::Outcome L1Cache::lookup(const Request& r, uint64_t c, uint64_t* answer_cycle) {
   const uint64_t addr = r.trans->get_address();
   const uint64_t line = addr >> offset_bits_;
-  // One pass: a busy MSHR for the line (a merge) and the lowest free one.
-  Mshr* match = nullptr;
-  Mshr* free = nullptr;
+  // A busy MSHR for the line (a merge; the last such, should there be several) and the lowest
+  // free one; none: n.
+  const size_t n = mshrs_.size();
+  size_t match = n, free = n;
   if (c >= busy_until_) {  // none busy (the common case): the first is the lowest free one
-    free = &mshrs_.front();
+    free = 0;
   } else {
-    for (Mshr& m : mshrs_) {
-      if (m.busy_at(c)) {
-        if (m.line == line) match = &m;
-      } else if (!free) {
-        free = &m;
+    // 64 MSHRs at a time, as bit masks.
+    for (size_t base = 0; base < n; base += 64) {
+      const size_t k = std::min<size_t>(64, n - base);
+      uint64_t busy = 0, same = 0;
+      for (size_t i = 0; i < k; ++i) {
+        busy |= uint64_t{c < mshr_fill_[base + i]} << i;
+        same |= uint64_t{mshr_line_[base + i] == line} << i;
       }
+      if (const uint64_t merge = busy & same)
+        match = base + 63 - static_cast<size_t>(std::countl_zero(merge));
+      const uint64_t idle = ~busy & (~uint64_t{0} >> (64 - k));
+      if (free == n && idle) free = base + static_cast<size_t>(std::countr_zero(idle));
     }
   }
-  if (!match && !free && !tags_.contains(addr)) return Outcome::kBlocked;
+  if (match == n && free == n && !tags_.contains(addr)) return Outcome::kBlocked;
   next_lookup_ = c + 1;
-  if (match) {
+  if (match != n) {
     ++merged_;
     tags_.access(addr);  // every lookup is one tag access
-    if (match->fill_cycle != kUnknown) {
-      *answer_cycle = match->fill_cycle;
+    if (mshr_fill_[match] != kUnknown) {
+      *answer_cycle = mshr_fill_[match];
       return Outcome::kAnswered;
     }
-    match->waiters.push_back(r.trans);
+    mshrs_[match].waiters.push_back(r.trans);
     return Outcome::kWaiting;
   }
   if (tags_.access(addr)) {
@@ -150,24 +190,39 @@ L1Cache::Outcome L1Cache::lookup(const Request& r, uint64_t c, uint64_t* answer_
     *answer_cycle = c + p_.hit_cycles;
     return Outcome::kAnswered;
   }
+  return primary_miss(r, free, line, c, answer_cycle);
+}
+
+L1Cache::Outcome L1Cache::primary_miss(const Request& r, size_t index, uint64_t line,
+                                       uint64_t c, uint64_t* answer_cycle) {
   // A primary miss (the line is now allocated): the MSHR reads the line downstream at c + H.
   ++primary_;
   if (r.blocked_at != kUnknown) stall_cycles_ += c - r.blocked_at;
-  Mshr& m = *free;
-  m.line = line;
+  Mshr& m = mshrs_[index];
+  mshr_line_[index] = line;
   m.request_cycle = r.t;
-  m.fill_cycle = kUnknown;
+  mshr_fill_[index] = kUnknown;
   busy_until_ = kUnknown;
   m.waiters.clear();
   const FetchTag* up = r.trans->get_extension<FetchTag>();
   m.tag->stream = up ? up->stream : Stream::kNode;
+  m.tag->reply_to = downstream_direct_ ? this : nullptr;  // answered as it is sent
   init_read(m.payload, line << offset_bits_, static_cast<uint32_t>(line_bytes_));
-  tlm::tlm_phase phase = tlm::BEGIN_REQ;
-  const uint64_t now = now_ps();
-  sc_core::sc_time delay = ps((c + p_.hit_cycles) * period_ps_ - now);
-  if (initiator_socket->nb_transport_fw(m.payload, phase, delay) == tlm::TLM_COMPLETED) {
-    fill(m, now + delay.value());  // answered at once: the fill is known
-    *answer_cycle = m.fill_cycle;
+  const uint64_t read_ps = (c + p_.hit_cycles) * period_ps_;
+  bool completed;
+  uint64_t done_ps = read_ps;
+  if (downstream_direct_) {
+    completed = downstream_direct_->read_at(m.payload, read_ps, &done_ps);
+  } else {
+    tlm::tlm_phase phase = tlm::BEGIN_REQ;
+    const uint64_t now = now_ps();
+    sc_core::sc_time delay = ps(read_ps - now);
+    completed = initiator_socket->nb_transport_fw(m.payload, phase, delay) == tlm::TLM_COMPLETED;
+    done_ps = now + delay.value();
+  }
+  if (completed) {
+    fill(index, done_ps);  // answered at once: the fill is known
+    *answer_cycle = mshr_fill_[index];
     return Outcome::kAnswered;
   }
   m.waiters.push_back(r.trans);
@@ -175,8 +230,8 @@ L1Cache::Outcome L1Cache::lookup(const Request& r, uint64_t c, uint64_t* answer_
 }
 
 void L1Cache::advance() {
-  while (!queue_.empty()) {
-    Request& r = queue_.front();
+  while (!queue_empty()) {
+    Request& r = queue_front();
     const uint64_t limit = decidable_ps();
     uint64_t c;
     if (r.blocked_at != kUnknown) {
@@ -195,7 +250,7 @@ void L1Cache::advance() {
       continue;
     }
     tlm::tlm_generic_payload* trans = r.trans;
-    queue_.pop_front();
+    queue_pop();
     if (o == Outcome::kAnswered) respond(*trans, answer);
   }
   schedule_wake();
@@ -211,8 +266,8 @@ void L1Cache::schedule_wake() {
 
 void L1Cache::update_horizon() {
   uint64_t h = kNever;
-  if (!queue_.empty()) {
-    const Request& r = queue_.front();
+  if (!queue_empty()) {
+    const Request& r = queue_front();
     if (r.blocked_at != kUnknown) {
       const uint64_t c = first_fill();  // unknown: the downstream's horizon bounds the initiator
       h = c == kUnknown ? kNever : c * period_ps_;
@@ -231,23 +286,26 @@ void L1Cache::wake() { advance(); }
 
 tlm::tlm_sync_enum L1Cache::nb_transport_bw(tlm::tlm_generic_payload& trans,
                                             tlm::tlm_phase& phase, sc_core::sc_time& delay) {
-  if (phase == tlm::BEGIN_RESP) {
-    Mshr& m = mshrs_[trans.get_extension<FetchTag>()->owner];
-    fill(m, now_ps() + delay.value());
-    for (tlm::tlm_generic_payload* w : m.waiters) respond(*w, m.fill_cycle);
-    m.waiters.clear();
-    advance();  // a blocked port may go on
-  }
+  if (phase == tlm::BEGIN_RESP) answered(trans, now_ps() + delay.value());
   return tlm::TLM_COMPLETED;
 }
 
-void L1Cache::fill(Mshr& m, uint64_t done_ps) {
+void L1Cache::answered(tlm::tlm_generic_payload& trans, uint64_t at_ps) {
+  const size_t index = trans.get_extension<FetchTag>()->owner;
+  Mshr& m = mshrs_[index];
+  fill(index, at_ps);
+  for (tlm::tlm_generic_payload* w : m.waiters) respond(*w, mshr_fill_[index]);
+  m.waiters.clear();
+  advance();  // a blocked port may go on
+}
+
+void L1Cache::fill(size_t m, uint64_t done_ps) {
   // One fill per cycle: the first cycle at or after the completion that no known fill holds.
   uint64_t c = cycles_.div_up(done_ps);
   for (bool taken = true; taken;) {
     taken = false;
-    for (const Mshr& o : mshrs_)
-      if (&o != &m && o.fill_cycle == c) {
+    for (size_t o = 0; o < mshr_fill_.size(); ++o)
+      if (o != m && mshr_fill_[o] == c) {
         ++c;
         taken = true;
       }
@@ -257,11 +315,11 @@ void L1Cache::fill(Mshr& m, uint64_t done_ps) {
     throw std::logic_error(std::string(name()) + ": a fill at cycle " + std::to_string(c) +
                            " became known after the lookup at cycle " +
                            std::to_string(next_lookup_ - 1) + " (the downstream decided late)");
-  m.fill_cycle = c;
+  mshr_fill_[m] = c;
   busy_until_ = 0;
-  for (const Mshr& o : mshrs_) busy_until_ = std::max(busy_until_, o.fill_cycle);
+  for (const uint64_t f : mshr_fill_) busy_until_ = std::max(busy_until_, f);
   ++fills_;
-  miss_latency_cycles_ += c - m.request_cycle;
+  miss_latency_cycles_ += c - mshrs_[m].request_cycle;
 }
 
 }  // namespace rtusim

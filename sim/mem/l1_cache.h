@@ -37,7 +37,7 @@
 // latency (fill cycle - request time t: port wait and stall included).
 #pragma once
 #include <cstdint>
-#include <deque>
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -55,8 +55,8 @@
 
 namespace rtusim {
 
-class L1Cache : public sc_core::sc_module, public NodeL1, public MemoryHorizon,
-                public CallDriven, public DirectTarget {
+class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHorizon,
+                      public CallDriven, public DirectTarget, public DirectInitiator {
  public:
   tlm_utils::simple_target_socket<L1Cache> target_socket;        // from the unit
   tlm_utils::simple_initiator_socket<L1Cache> initiator_socket;  // to DRAM
@@ -70,6 +70,9 @@ class L1Cache : public sc_core::sc_module, public NodeL1, public MemoryHorizon,
   // The downstream's next decision (the DRAM). Without one, the downstream must answer every
   // read at once (TLM_COMPLETED).
   void set_downstream_horizon(const MemoryHorizon* h) override { downstream_horizon_ = h; }
+  // The target bound to initiator_socket, if it takes reads by direct call and answers them so
+  // (the DRAM); nullptr: through the socket.
+  void set_downstream_direct(DirectTarget* d) { downstream_direct_ = d; }
 
   uint64_t hits() const override { return hits_; }
   uint64_t primary_misses() const override { return primary_; }
@@ -91,8 +94,14 @@ class L1Cache : public sc_core::sc_module, public NodeL1, public MemoryHorizon,
     if (!on) schedule_wake();  // its process takes over from here
   }
   void act_at_horizon(uint64_t) override { advance(); }
-  // The upstream request by direct call (what nb_transport_fw does, in picoseconds).
-  bool read_at(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t* done_ps) override;
+  // The upstream request by direct call (what nb_transport_fw does, in picoseconds). Through
+  // an L1Cache* (the class is final) one indirect call into read_at_as<the tags' cache type>.
+  bool read_at(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t* done_ps) override {
+    return (this->*read_)(trans, at_ps, done_ps);
+  }
+  // A fill by direct call (the MSHRs' reads name the cache as reply_to when they go by direct
+  // call).
+  void answered(tlm::tlm_generic_payload& trans, uint64_t at_ps) override;
   const SetAssocCache& tags() const { return tags_; }
   const L1Params& params() const { return p_; }
 
@@ -103,14 +112,12 @@ class L1Cache : public sc_core::sc_module, public NodeL1, public MemoryHorizon,
     uint64_t t;                       // its time (cycle)
     uint64_t blocked_at = kUnknown;   // first cycle it was refused for want of an MSHR
   };
+  // An MSHR's line and fill cycle are in mshr_line_ / mshr_fill_ at its index.
   struct Mshr {
-    uint64_t line = 0;
     uint64_t request_cycle = 0;  // the primary request's time
-    uint64_t fill_cycle = 0;     // busy until here (kUnknown until the downstream answers)
     std::vector<tlm::tlm_generic_payload*> waiters;  // answered at the fill
     tlm::tlm_generic_payload payload;  // the line read; owns its FetchTag
     FetchTag* tag = nullptr;
-    bool busy_at(uint64_t c) const { return c < fill_cycle; }
   };
   enum class Outcome { kAnswered, kWaiting, kBlocked };
 
@@ -122,11 +129,21 @@ class L1Cache : public sc_core::sc_module, public NodeL1, public MemoryHorizon,
   void advance();
   // Latest time (ps) up to which every fill is known.
   uint64_t decidable_ps() const;
+  // read_at() with the tags' concrete cache `Cache` (SetAssocCache's variant alternative):
+  // a lookup with no MSHR busy, the common case, calls its access() inline.
+  template <class Cache>
+  bool read_at_as(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t* done_ps);
+  // read_at() from its request's cycle t on, for any state of the port and the MSHRs.
+  bool read_at_general(tlm::tlm_generic_payload& trans, uint64_t t, uint64_t* done_ps);
   // The lookup of `r` at cycle c; kAnswered sets *answer_cycle.
   Outcome lookup(const Request& r, uint64_t c, uint64_t* answer_cycle);
+  // The rest of a lookup that missed with MSHR `m` free (the line is now in the tags): `m`
+  // reads the line downstream.
+  Outcome primary_miss(const Request& r, size_t m, uint64_t line, uint64_t c,
+                       uint64_t* answer_cycle);
   // Earliest fill cycle among the MSHRs (all busy); kUnknown if none is known.
   uint64_t first_fill() const;
-  void fill(Mshr& m, uint64_t done_ps);
+  void fill(size_t m, uint64_t done_ps);
   void respond(tlm::tlm_generic_payload& trans, uint64_t cycle);
   // Recomputes the horizon after the lookup port's state may have changed; tells the watchers
   // if it moved. Every change that can move it (a request queued, advance()) ends in
@@ -138,14 +155,36 @@ class L1Cache : public sc_core::sc_module, public NodeL1, public MemoryHorizon,
 
   L1Params p_;
   SetAssocCache tags_;
+  void* tag_cache_ = nullptr;  // tags_'s concrete cache, as read_ knows its type
+  bool (L1Cache::*read_)(tlm::tlm_generic_payload&, uint64_t, uint64_t*) = nullptr;
   uint32_t offset_bits_;
   uint64_t line_bytes_;
   uint64_t period_ps_;
   FastDivider cycles_;  // picoseconds to cycles
   const MemoryHorizon* downstream_horizon_ = nullptr;
+  DirectTarget* downstream_direct_ = nullptr;
   std::vector<Mshr> mshrs_;
+  // Per MSHR, in arrays a lookup scans without a branch per MSHR: its line, and the cycle it is
+  // busy until (kUnknown until the downstream answers; busy at c while c < it).
+  std::vector<uint64_t> mshr_line_, mshr_fill_;
   uint64_t busy_until_ = 0;  // the latest fill cycle among them (kUnknown: one is not known)
-  std::deque<Request> queue_;     // not looked up yet, arrival order
+  // Requests not looked up yet, in arrival order: queue_[queue_head_ ..]. A vector taken from
+  // the front (a std::deque's push and pop are calls): emptied whenever the last is taken, and
+  // its taken front dropped when it is most of it.
+  std::vector<Request> queue_;
+  size_t queue_head_ = 0;
+  bool queue_empty() const { return queue_head_ == queue_.size(); }
+  Request& queue_front() { return queue_[queue_head_]; }
+  const Request& queue_front() const { return queue_[queue_head_]; }
+  void queue_pop() {
+    if (++queue_head_ == queue_.size()) {
+      queue_.clear();
+      queue_head_ = 0;
+    } else if (queue_head_ >= 1024 && 2 * queue_head_ >= queue_.size()) {
+      queue_.erase(queue_.begin(), queue_.begin() + static_cast<std::ptrdiff_t>(queue_head_));
+      queue_head_ = 0;
+    }
+  }
   uint64_t next_lookup_ = 0;      // the port's next free cycle
   uint64_t horizon_ps_ = kNever;  // as update_horizon() last found it
   sc_core::sc_event wake_;

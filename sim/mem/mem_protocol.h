@@ -26,10 +26,14 @@
 
 namespace rtusim {
 
-// Tags a payload with its fetch stream and its owner's index (a ray slot, an MSHR).
+class DirectInitiator;
+
+// Tags a payload with its fetch stream and its owner's index (a ray slot, an MSHR), and the
+// initiator that takes its answer by direct call, if any.
 struct FetchTag : tlm::tlm_extension<FetchTag> {
   Stream stream = Stream::kNode;
   uint32_t owner = 0;
+  DirectInitiator* reply_to = nullptr;  // nullptr: BEGIN_RESP through the socket
   tlm::tlm_extension_base* clone() const override { return new FetchTag(*this); }
   void copy_from(const tlm::tlm_extension_base& other) override {
     *this = static_cast<const FetchTag&>(other);
@@ -59,6 +63,18 @@ class DirectTarget {
   // A read at absolute time `at_ps` (at or after the kernel's time). True: completed at once
   // (the response status set; *done_ps its time); false: answered later by BEGIN_RESP.
   virtual bool read_at(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t* done_ps) = 0;
+};
+
+// An initiator that also takes answers by direct call: what its nb_transport_bw does with
+// BEGIN_RESP (the response status set), at absolute time `at_ps`, without the socket or sc_time
+// arithmetic. A target answers so every payload whose FetchTag names the initiator (reply_to).
+// An initiator names itself only on the reads it sends by direct call (DirectTarget::read_at),
+// never on those it sends through its socket: a module in between (a recorder, an adapter)
+// sees every answer to what passed through it.
+class DirectInitiator {
+ public:
+  virtual ~DirectInitiator() = default;
+  virtual void answered(tlm::tlm_generic_payload& trans, uint64_t at_ps) = 0;
 };
 
 class MemoryHorizon {

@@ -41,8 +41,13 @@ struct CycleBackend::Top : sc_core::sc_module {
     } else {
       unit.data_socket.bind(dram.target_socket);
     }
-    // The C++ caches also take the unit's reads by direct call (no sc_time per request).
-    unit.set_direct_targets(dynamic_cast<DirectTarget*>(node_l1.get()), data_cache.get());
+    // The C++ caches and the DRAM also take reads and give answers by direct call (no socket,
+    // no sc_time per request).
+    auto* node_cpp = dynamic_cast<L1Cache*>(node_l1.get());
+    if (node_cpp) node_cpp->set_downstream_direct(&dram);
+    if (data_cache) data_cache->set_downstream_direct(&dram);
+    unit.set_direct_targets(node_cpp, data_cache ? static_cast<DirectTarget*>(data_cache.get())
+                                                 : &dram);
   }
 };
 

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "layout/layout_dispatch.h"
+#include "mem/l1_cache.h"
 #include "util/error.h"
 #include "util/stats.h"
 #include "util/vcd_writer.h"
@@ -242,8 +243,7 @@ void TraversalUnit::process(Slot& s, uint32_t index, uint64_t t) {
   switch (s.phase) {
     case Phase::kStep: {
       s.fetches.clear();
-      Recorder rec{&s.fetches};
-      s.kind = traversal_step<Decoder>(s.st, image_, rec);
+      s.kind = traversal_step<Decoder>(s.st, image_, s.fetches);
       if (s.kind == StepKind::kDone) {  // not reached: finished rays leave after their leaf
         finish_ray(index, t);
         return;
@@ -321,13 +321,17 @@ void TraversalUnit::issue(uint32_t slot, size_t first, size_t last, uint64_t t) 
       FetchTag* tag = p->tag;
       tag->stream = f.stream;
       tag->owner = slot;
+      tag->reply_to = direct ? this : nullptr;  // answered as it was sent
       // One request per line touched, for the whole line: the caches fill lines, and a data
       // path straight to DRAM reads whole bursts (the functional tier's accounting).
       init_read(*p, line_start, static_cast<uint32_t>(line));
       ++s.pending;
       if (direct) {
         uint64_t done_ps = 0;
-        if (direct->read_at(*p, at_ps, &done_ps)) arrived(*p, done_ps);
+        // The node L1 called as an L1Cache: no virtual call on the hot path.
+        if (node ? node_direct_->read_at(*p, at_ps, &done_ps)
+                 : direct->read_at(*p, at_ps, &done_ps))
+          arrived(*p, done_ps);
       } else {
         tlm::tlm_phase phase = tlm::BEGIN_REQ;
         sc_core::sc_time delay = ps(at_ps - now_ps());

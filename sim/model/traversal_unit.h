@@ -45,12 +45,13 @@
 
 namespace rtusim {
 
+class L1Cache;
 class VcdWriter;
 
 class Stats;
 
 
-class TraversalUnit : public sc_core::sc_module {
+class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
  public:
   tlm_utils::simple_initiator_socket<TraversalUnit> node_socket;  // to the node L1
   tlm_utils::simple_initiator_socket<TraversalUnit> data_socket;  // lists + triangles
@@ -69,12 +70,15 @@ class TraversalUnit : public sc_core::sc_module {
     else
       horizons_report_ = false;
   }
-  // The targets bound to node_socket / data_socket, if they take reads by direct call
-  // (nullptr: through the socket).
-  void set_direct_targets(DirectTarget* node, DirectTarget* data) {
+  // The targets bound to node_socket / data_socket, if they take reads by direct call (a C++
+  // L1 for the nodes; the data cache or the DRAM for the rest); nullptr: through the socket.
+  void set_direct_targets(L1Cache* node, DirectTarget* data) {
     node_direct_ = node;
     data_direct_ = data;
   }
+
+  // An answer by direct call (the unit's reads by direct call name the unit as reply_to).
+  void answered(tlm::tlm_generic_payload& trans, uint64_t at_ps) override { arrived(trans, at_ps); }
 
   uint64_t steps() const { return steps_; }
   void write_stats(Stats& stats) const;  // unit.*
@@ -91,7 +95,6 @@ class TraversalUnit : public sc_core::sc_module {
     kStep, kBook, kNodeWait, kLeafBody, kListWait, kTriangles, kTriWait, kIsect
   };
   using Fetch = RecordedFetch;
-  using Recorder = FetchRecorder;
   // The fields every event touches first, in one cache line; the traversal state (its stack
   // is a kilobyte) after them.
   struct alignas(64) Slot {
@@ -102,7 +105,7 @@ class TraversalUnit : public sc_core::sc_module {
     uint32_t ray = 0;
     uint32_t pending = 0;        // line requests outstanding
     uint64_t ready = 0;          // latest data cycle among them
-    std::vector<Fetch> fetches;  // of the current step, in issue order
+    FetchList fetches;           // of the current step, in issue order
     TraversalState st;
   };
 
@@ -140,7 +143,7 @@ class TraversalUnit : public sc_core::sc_module {
   // last one it computed until a component sets horizon_moved_.
   bool horizons_report_ = true;
   bool horizon_moved_ = true;
-  DirectTarget* node_direct_ = nullptr;
+  L1Cache* node_direct_ = nullptr;
   DirectTarget* data_direct_ = nullptr;
   std::vector<CallDriven*> due_;  // scratch: components acted for at one horizon
   std::vector<Slot> slots_;

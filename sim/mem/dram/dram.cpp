@@ -3,6 +3,7 @@
 #include "mem/dram/dram_backends.h"
 
 #include <algorithm>
+#include <stdexcept>
 
 namespace rtusim {
 
@@ -24,22 +25,40 @@ tlm::tlm_sync_enum Dram::nb_transport_fw(int id, tlm::tlm_generic_payload& trans
     trans.set_response_status(tlm::TLM_COMMAND_ERROR_RESPONSE);
     return tlm::TLM_COMPLETED;
   }
+  accept(trans, id, nullptr, now_ps() + delay.value());  // answered through the socket
+  phase = tlm::END_REQ;
+  return tlm::TLM_UPDATED;
+}
+
+bool Dram::read_at(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t* done_ps) {
+  if (trans.get_command() != tlm::TLM_READ_COMMAND) {
+    trans.set_response_status(tlm::TLM_COMMAND_ERROR_RESPONSE);
+    *done_ps = at_ps;
+    return true;
+  }
+  const FetchTag* tag = trans.get_extension<FetchTag>();
+  if (!tag || !tag->reply_to)
+    throw std::logic_error("DRAM read_at: the payload names no initiator to answer");
+  accept(trans, -1, tag->reply_to, at_ps);
+  return false;
+}
+
+void Dram::accept(tlm::tlm_generic_payload& trans, int socket_id, DirectInitiator* reply_to,
+                  uint64_t arrival_ps) {
+  const FetchTag* tag = trans.get_extension<FetchTag>();
   uint64_t rid;
   if (free_ids_.empty()) {
     rid = pending_.size();
-    pending_.push_back({&trans, id});
+    pending_.push_back({&trans, socket_id, reply_to});
   } else {
     rid = free_ids_.back();
     free_ids_.pop_back();
-    pending_[rid] = {&trans, id};
+    pending_[rid] = {&trans, socket_id, reply_to};
   }
-  const FetchTag* tag = trans.get_extension<FetchTag>();
-  backend_->enqueue({rid, trans.get_address(), trans.get_data_length(),
-                     now_ps() + delay.value(), tag ? tag->stream : Stream::kNode});
+  backend_->enqueue({rid, trans.get_address(), trans.get_data_length(), arrival_ps,
+                     tag ? tag->stream : Stream::kNode});
   update_horizon();
   schedule_wakeup();
-  phase = tlm::END_REQ;
-  return tlm::TLM_UPDATED;
 }
 
 void Dram::schedule_wakeup() {
@@ -76,6 +95,10 @@ void Dram::decide_at(uint64_t at_ps) {
     const Pending p = pending_[c.id];
     free_ids_.push_back(c.id);
     p.trans->set_response_status(tlm::TLM_OK_RESPONSE);
+    if (p.reply_to) {
+      p.reply_to->answered(*p.trans, c.done_ps);
+      continue;
+    }
     tlm::tlm_phase phase = tlm::BEGIN_RESP;
     sc_core::sc_time delay = ps(c.done_ps - now);
     target_socket[p.socket_id]->nb_transport_bw(*p.trans, phase, delay);  // END_RESP implied

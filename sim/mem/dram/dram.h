@@ -26,7 +26,8 @@
 
 namespace rtusim {
 
-class Dram : public sc_core::sc_module, public MemoryHorizon, public CallDriven {
+class Dram final : public sc_core::sc_module, public MemoryHorizon, public CallDriven,
+                   public DirectTarget {
  public:
   tlm_utils::multi_passthrough_target_socket<Dram> target_socket;
 
@@ -46,16 +47,24 @@ class Dram : public sc_core::sc_module, public MemoryHorizon, public CallDriven 
     if (!on) schedule_wakeup();  // its process takes over from here
   }
   void act_at_horizon(uint64_t at_ps) override { decide_at(at_ps); }
+  // A read by direct call (what nb_transport_fw does, in picoseconds): always answered later,
+  // by direct call to the payload's FetchTag::reply_to, which it must name.
+  bool read_at(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t* done_ps) override;
   const DramBackend& backend() const { return *backend_; }
 
  private:
   struct Pending {
     tlm::tlm_generic_payload* trans;
     int socket_id;
+    DirectInitiator* reply_to;  // answered by direct call to it, if not nullptr
   };
 
   tlm::tlm_sync_enum nb_transport_fw(int id, tlm::tlm_generic_payload& trans,
                                      tlm::tlm_phase& phase, sc_core::sc_time& delay);
+  // Queues a READ that reaches the controller at `arrival_ps`, answered through socket
+  // `socket_id` or, if not nullptr, by direct call to `reply_to`.
+  void accept(tlm::tlm_generic_payload& trans, int socket_id, DirectInitiator* reply_to,
+              uint64_t arrival_ps);
   void decide();  // SC_METHOD: the decisions due at the kernel's time
   // Makes the decisions due at `at_ps` (>= the kernel's time) and answers them.
   void decide_at(uint64_t at_ps);
