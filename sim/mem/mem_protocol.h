@@ -33,7 +33,9 @@ class DirectInitiator;
 struct FetchTag : tlm::tlm_extension<FetchTag> {
   Stream stream = Stream::kNode;
   uint32_t owner = 0;
-  DirectInitiator* reply_to = nullptr;  // nullptr: BEGIN_RESP through the socket
+  // nullptr: BEGIN_RESP through the socket. Copied with the tag: a module that copies tags onto
+  // payloads it sends on must clear it, or the answer would bypass that module.
+  DirectInitiator* reply_to = nullptr;
   tlm::tlm_extension_base* clone() const override { return new FetchTag(*this); }
   void copy_from(const tlm::tlm_extension_base& other) override {
     *this = static_cast<const FetchTag&>(other);
@@ -56,12 +58,13 @@ class CallDriven {
 
 // A target that also takes reads by direct call, in integer picoseconds: what nb_transport_fw
 // does with BEGIN_REQ and an annotated delay, without sc_time arithmetic or the socket. Only
-// for an initiator bound to this target's socket (later answers still come as BEGIN_RESP on it).
+// for an initiator bound to this target's socket; later answers come by direct call when the
+// payload's FetchTag names a reply_to (DirectInitiator), else as BEGIN_RESP on the socket.
 class DirectTarget {
  public:
   virtual ~DirectTarget() = default;
   // A read at absolute time `at_ps` (at or after the kernel's time). True: completed at once
-  // (the response status set; *done_ps its time); false: answered later by BEGIN_RESP.
+  // (the response status set; *done_ps its time); false: answered later (reply_to or BEGIN_RESP).
   virtual bool read_at(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t* done_ps) = 0;
 };
 

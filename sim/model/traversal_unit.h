@@ -13,16 +13,18 @@
 // Simulation: one SC_THREAD runs an event queue of (time, ray) in time order, temporally
 // decoupled: it processes events without yielding until the next one is at or after the memory
 // horizon (the DRAM's next scheduling decision), then waits for the kernel to reach it. Memory
-// responses arrive as annotated BEGIN_RESP calls; a ray whose data is all there is queued by
+// responses arrive by direct call (DirectInitiator) or as annotated BEGIN_RESP calls (the RTL
+// L1); a ray whose data is all there is queued by
 // (data cycle, slot) and taken in that order, before the events of the same cycle, so steps are
 // booked in time order whatever order the memory side happened to announce them in (the C++ and
 // the RTL L1 announce at different moments and must give identical runs). When every memory
 // component can be driven by call (the C++ L1s and the DRAM: MemoryHorizon::call_driven()), the
 // unit does not wait for the kernel at a horizon but makes the components act there itself,
 // and the kernel only catches up at the end of the batch: no context switch per DRAM decision.
-// With the RTL L1, which runs on the kernel's clock, the kernel gets there. Reads to a C++ L1 go
-// by direct call in picoseconds (DirectTarget, mem_protocol.h), not through the socket: the same
-// decisions without sc_time arithmetic per request.
+// With the RTL L1, which runs on the kernel's clock, the kernel gets there. Reads to a C++ L1
+// and to the DRAM (lists, triangles) go by direct call in picoseconds (DirectTarget,
+// mem_protocol.h), not through the socket: the same decisions without sc_time arithmetic per
+// request.
 #pragma once
 #include <cstdint>
 #include <deque>

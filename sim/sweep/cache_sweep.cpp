@@ -144,7 +144,8 @@ CacheSweep::CacheSweep(const std::vector<CacheParams>& configs, uint64_t image_b
     finest_shift_ = static_cast<uint32_t>(
         std::countr_zero(std::min(depth.empty() ? UINT32_MAX : depth.begin()->first,
                                   full.empty() ? UINT32_MAX : full.begin()->first)));
-    if ((image_bytes >> finest_shift_) >= (uint64_t{1} << 29) - 1)
+    lines_ = (image_bytes >> finest_shift_) + 1;
+    if (lines_ >= (uint64_t{1} << 29))
       throw std::logic_error("CacheSweep: line numbers must fit 29 bits");
   }
   for (const CacheParams& c : configs) {
@@ -215,8 +216,10 @@ unsigned CacheSweep::parts_for(const std::vector<CacheParams>& configs, unsigned
   return (std::max(1u, threads) + n - 1) / n;
 }
 
-void CacheSweep::grow(SweepChunk& chunk, uint64_t words) {
-  chunk.words.resize(2 * chunk.words.size() + words);
+void CacheSweep::grow(SweepChunk& chunk, uint64_t first, uint64_t last) const {
+  if (last >= lines_) throw std::logic_error("CacheSweep: a fetch beyond the image");
+  if (chunk.n_words + (last - first) + 1 > chunk.words.size())
+    chunk.words.resize(2 * chunk.words.size() + (last - first) + 1);
 }
 
 void CacheSweep::feed_task(size_t task, const SweepChunk& chunk) {

@@ -91,8 +91,8 @@ class CacheSweep {
       chunk.fetches.push_back({addr, bytes, tag});
     if (bytes == 0 || !encodes_) return;
     const uint64_t first = addr >> finest_shift_, last = (addr + bytes - 1) >> finest_shift_;
-    if (chunk.n_words + (last - first) + 1 > chunk.words.size()) [[unlikely]]
-      grow(chunk, last - first + 1);
+    if (chunk.n_words + (last - first) + 1 > chunk.words.size() || last >= lines_) [[unlikely]]
+      grow(chunk, first, last);
     uint32_t* w = chunk.words.data() + chunk.n_words;
     // The first line's word is written in any case and kept unless it repeats the line before.
     w[0] = static_cast<uint32_t>(first << 3 | tag << 1);
@@ -103,6 +103,8 @@ class CacheSweep {
       chunk.words[chunk.n_words++] = static_cast<uint32_t>(line << 3 | tag << 1 | 1);
     last_recorded_ = last;
   }
+  bool keeps_fetches() const { return keeps_fetches_; }
+  bool encodes() const { return encodes_; }
   size_t tasks() const { return groups_.size() + side_.size(); }
   void feed_task(size_t task, const SweepChunk& chunk);
   void set_threads(unsigned n) { threads_ = n ? n : 1; }
@@ -126,12 +128,14 @@ class CacheSweep {
     PerTag accesses{}, misses{};
   };
 
-  static void grow(SweepChunk& chunk, uint64_t words);  // room for `words` more words
+  // Room in `chunk` for a fetch's lines first .. last (beyond the image: an error).
+  void grow(SweepChunk& chunk, uint64_t first, uint64_t last) const;
 
   std::vector<std::unique_ptr<LineGroup>> groups_;
   bool keeps_fetches_ = false;             // side-by-side caches read the fetches
   bool encodes_ = false;                   // LRU groups read the encoded lines
   uint32_t finest_shift_ = 0;              // of the LRU line sizes: the encoded lines'
+  uint64_t lines_ = 0;                     // of the image at that size
   uint64_t last_recorded_ = ~uint64_t{0};  // the last line record() encoded
   std::vector<SideCache> side_;
   std::vector<Where> where_;

@@ -57,9 +57,11 @@ void SweepBackend::hand_off() {
 }
 
 void SweepBackend::reserve() {
-  for (SweepChunk& c : chunk_) {
-    c.fetches.reserve(kChunkFetches);  // pages never written (no side-by-side cache) stay unmapped
-    if (c.words.size() < kChunkFetches) c.words.resize(kChunkFetches);
+  for (size_t i = 0; i < chunk_.size(); ++i) {
+    const CacheSweep& sweep = i == 0 ? nodes_ : *data_;
+    SweepChunk& c = chunk_[i];
+    if (sweep.keeps_fetches()) c.fetches.reserve(kChunkFetches);
+    if (sweep.encodes() && c.words.size() < kChunkFetches) c.words.resize(kChunkFetches);
   }
 }
 

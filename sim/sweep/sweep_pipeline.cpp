@@ -25,9 +25,9 @@ SweepPipeline::~SweepPipeline() {
 
 void SweepPipeline::push(Lists& lists) {
   std::unique_lock lock(mutex_);
-  // No room: this thread feeds tasks itself until there is.
+  // No room: this thread feeds tasks itself until there is, the oldest chunk's first.
   while (chunks_.size() >= max_chunks_ && !error_) {
-    if (Task* t = pick(pusher_last_)) {
+    if (Task* t = pick(nullptr)) {
       pusher_last_ = t;
       run(*t, lock);
     } else {

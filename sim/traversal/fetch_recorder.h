@@ -1,5 +1,5 @@
 // A fetch sink for traversal_step() that records a step's fetches, for a model that sends them
-// on later at their own times (the traversal unit, the timed interleaved functional mode).
+// on later at their own times (the traversal unit).
 #pragma once
 #include <algorithm>
 #include <cstddef>
@@ -15,19 +15,6 @@ struct RecordedFetch {
   Stream stream;
   uint64_t addr;
   uint32_t bytes;
-};
-
-// Where a leaf step's triangle fetches begin: traversal_step() reports the leaf's node, then its
-// triangle list when it has one, then its triangles. `Fetches`: a std::vector or a FetchList.
-template <class Fetches>
-inline size_t first_triangle_fetch(const Fetches& step) {
-  return step.size() > 1 && step[1].stream == Stream::kList ? 2 : 1;
-}
-
-// Appends each fetch to `out`, in issue order.
-struct FetchRecorder {
-  std::vector<RecordedFetch>* out;
-  void fetch(Stream s, uint64_t addr, uint32_t bytes) { out->push_back({s, addr, bytes}); }
 };
 
 // A step's fetches, reused step after step, itself the sink: appending is a store and an
@@ -50,5 +37,11 @@ class FetchList {
   std::vector<RecordedFetch> buf_;
   size_t size_ = 0;
 };
+
+// Where a leaf step's triangle fetches begin: traversal_step() reports the leaf's node, then its
+// triangle list when it has one, then its triangles.
+inline size_t first_triangle_fetch(const FetchList& step) {
+  return step.size() > 1 && step[1].stream == Stream::kList ? 2 : 1;
+}
 
 }  // namespace rtusim

@@ -169,7 +169,7 @@ LeafImage leaf_image(const Triangles& tris) {
 
 // The fetches a leaf loop reports, in order (a sink of this file's own, so the loops under test
 // are instantiated here).
-struct FetchList {
+struct RecordedFetches {
   std::vector<RecordedFetch> fetches;
   void fetch(Stream s, uint64_t addr, uint32_t bytes) { fetches.push_back({s, addr, bytes}); }
 };
@@ -184,7 +184,7 @@ struct FetchList {
   s.hit = prior;
   s.ray.t_max = ray_t_max;
   s.any_hit = any_hit;
-  FetchList want_sink, got_sink;
+  RecordedFetches want_sink, got_sink;
   const bool done = detail::leaf_triangles_scalar(s, l.image, l.leaf, want_sink);
   out = detail::leaf_triangles_chunked(wray, prior, ray_t_max, any_hit, l.image, l.leaf,
                                        got_sink);

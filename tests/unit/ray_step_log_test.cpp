@@ -45,9 +45,8 @@ TEST(RayStepLogTest, RecordsEveryStepsFetchesAndTheHit) {
     traversal_begin(s, image, r.ray, r.any_hit());
     std::vector<Fetch> want;
     while (!s.done) {
-      std::vector<RecordedFetch> step;
-      FetchRecorder rec{&step};
-      const bool leaf = traversal_step<DflLayout>(s, image, rec) == StepKind::kLeaf;
+      FetchList step;
+      const bool leaf = traversal_step<DflLayout>(s, image, step) == StepKind::kLeaf;
       for (size_t k = 0; k < step.size(); ++k)
         want.emplace_back(int(step[k].stream), step[k].addr, step[k].bytes, k == 0 && leaf);
       leaves += leaf;
