@@ -35,9 +35,10 @@ struct Bench {
   Requester req;
   L1Cache l1;
   FixedLatencyMemory mem;
-  Bench(std::vector<Requester::Req> r, uint32_t mshrs, bool deferred)
+  Bench(std::vector<Requester::Req> r, uint32_t mshrs, bool deferred,
+        uint64_t mem_latency_ps = kMemLatency)
       : req("req", std::move(r)), l1("l1", l1_params(mshrs)),
-        mem("mem", kMemLatency, deferred) {
+        mem("mem", mem_latency_ps, deferred) {
     req.socket.bind(l1.target_socket);
     l1.initiator_socket.bind(mem.socket);
     if (deferred) l1.set_downstream_horizon(&mem);
@@ -120,6 +121,27 @@ TEST_P(L1CacheTest, OneLookupPerCycle) {
   EXPECT_EQ(b.l1.mshr_stall_cycles(), 0u);
   // The latency counts the port wait: 52, 53, 54, 54.
   EXPECT_DOUBLE_EQ(b.l1.mean_miss_latency_cycles(), (52.0 + 53 + 54 + 54) / 4);
+}
+
+TEST_P(L1CacheTest, SeventyMshrsBeyondOneBitMask) {
+  // 70 MSHRs (two 64-wide masks), memory 100 cycles. Misses on 70 lines at cycles 0..69 take
+  // MSHRs 0..69 and fill at 102..171. A 71st line at 70 finds them all busy: the port blocks
+  // until the first fill (102), the read goes at 104, the fill is at 204. A request at 71 for
+  // line 66 (MSHR 66, in the second mask) looks up at 103 and merges: answered at its fill, 168.
+  std::vector<Requester::Req> r;
+  for (uint64_t i = 0; i < 70; ++i) r.push_back({i * kCycle, i * 64});
+  r.push_back({70 * kCycle, 70 * 64});
+  r.push_back({71 * kCycle, 66 * 64 + 8});
+  Bench b(std::move(r), 70, GetParam(), 100 * kCycle);
+  sc_core::sc_start();
+  for (uint64_t i = 0; i < 70; ++i) EXPECT_EQ(b.req.done_ps[i], (i + 102) * kCycle) << i;
+  EXPECT_EQ(b.req.done_ps[70], 204 * kCycle);
+  EXPECT_EQ(b.req.done_ps[71], 168 * kCycle);
+  EXPECT_EQ(b.l1.primary_misses(), 71u);
+  EXPECT_EQ(b.l1.merged_misses(), 1u);
+  EXPECT_EQ(b.l1.mshr_stall_cycles(), 102u - 70u);
+  ASSERT_EQ(b.mem.arrivals.size(), 71u);
+  EXPECT_EQ(b.mem.arrivals[70].at_ps, 104 * kCycle);
 }
 
 TEST_P(L1CacheTest, MergeInTheLastCycleBeforeTheFillThenHit) {
