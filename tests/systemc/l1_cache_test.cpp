@@ -144,6 +144,27 @@ TEST_P(L1CacheTest, SeventyMshrsBeyondOneBitMask) {
   EXPECT_EQ(b.mem.arrivals[70].at_ps, 104 * kCycle);
 }
 
+TEST_P(L1CacheTest, ABacklogOfThousandsOneLookupPerCycle) {
+  // 3000 requests at cycle 0 on four lines wait in the port's backlog and look up one per cycle:
+  // request i at cycle i. Line k = i % 4 misses at cycle k and fills at k + 52; a lookup before
+  // the fill merges (answered at the fill), one at or after it hits (answered 2 cycles later).
+  std::vector<Requester::Req> r;
+  for (uint64_t i = 0; i < 3000; ++i) r.push_back({0, (i % 4) * 64 + 8});
+  Bench b(std::move(r), 8, GetParam());
+  sc_core::sc_start();
+  uint64_t hits = 0, merged = 0;
+  for (uint64_t i = 0; i < 3000; ++i) {
+    const uint64_t fill = i % 4 + 52;
+    const bool hit = i >= 4 && i >= fill;
+    hits += hit;
+    merged += i >= 4 && !hit;
+    EXPECT_EQ(b.req.done_ps[i], (hit ? i + 2 : fill) * kCycle) << i;
+  }
+  EXPECT_EQ(b.l1.primary_misses(), 4u);
+  EXPECT_EQ(b.l1.merged_misses(), merged);
+  EXPECT_EQ(b.l1.hits(), hits);
+}
+
 TEST_P(L1CacheTest, MergeInTheLastCycleBeforeTheFillThenHit) {
   // X fills at 52: a lookup at 51 merges (answered at 52), one at 52 hits (answered at 54).
   Bench b({{0, X}, {51 * kCycle, X + 8}, {52 * kCycle, X + 16}}, 8, GetParam());
