@@ -25,7 +25,8 @@ tlm::tlm_sync_enum Dram::nb_transport_fw(int id, tlm::tlm_generic_payload& trans
     trans.set_response_status(tlm::TLM_COMMAND_ERROR_RESPONSE);
     return tlm::TLM_COMPLETED;
   }
-  accept(trans, id, nullptr, now_ps() + delay.value());  // answered through the socket
+  accept(trans, trans.get_extension<FetchTag>(), id, nullptr,
+         now_ps() + delay.value());  // answered through the socket
   phase = tlm::END_REQ;
   return tlm::TLM_UPDATED;
 }
@@ -39,13 +40,12 @@ bool Dram::read_at(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t* do
   const FetchTag* tag = trans.get_extension<FetchTag>();
   if (!tag || !tag->reply_to)
     throw std::logic_error("DRAM read_at: the payload names no initiator to answer");
-  accept(trans, -1, tag->reply_to, at_ps);
+  accept(trans, tag, -1, tag->reply_to, at_ps);
   return false;
 }
 
-void Dram::accept(tlm::tlm_generic_payload& trans, int socket_id, DirectInitiator* reply_to,
-                  uint64_t arrival_ps) {
-  const FetchTag* tag = trans.get_extension<FetchTag>();
+void Dram::accept(tlm::tlm_generic_payload& trans, const FetchTag* tag, int socket_id,
+                  DirectInitiator* reply_to, uint64_t arrival_ps) {
   uint64_t rid;
   if (free_ids_.empty()) {
     rid = pending_.size();

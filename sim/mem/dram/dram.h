@@ -61,10 +61,11 @@ class Dram final : public sc_core::sc_module, public MemoryHorizon, public CallD
 
   tlm::tlm_sync_enum nb_transport_fw(int id, tlm::tlm_generic_payload& trans,
                                      tlm::tlm_phase& phase, sc_core::sc_time& delay);
-  // Queues a READ that reaches the controller at `arrival_ps`, answered through socket
-  // `socket_id` or, if not nullptr, by direct call to `reply_to`.
-  void accept(tlm::tlm_generic_payload& trans, int socket_id, DirectInitiator* reply_to,
-              uint64_t arrival_ps);
+  // Queues a READ (`tag`: its FetchTag, or nullptr) that reaches the controller at
+  // `arrival_ps`, answered through socket `socket_id` or, if not nullptr, by direct call to
+  // `reply_to`.
+  void accept(tlm::tlm_generic_payload& trans, const FetchTag* tag, int socket_id,
+              DirectInitiator* reply_to, uint64_t arrival_ps);
   void decide();  // SC_METHOD: the decisions due at the kernel's time
   // Makes the decisions due at `at_ps` (>= the kernel's time) and answers them.
   void decide_at(uint64_t at_ps);
