@@ -35,10 +35,11 @@ TraceReplayCounts replay_trace(TraceReader& reader, const CacheParams& params) {
         last_line = ~uint64_t{0};
         return;
       }
-      bool straddles = false;
-      if (h.node_bytes > 1)
-        for (const uint64_t a : addrs) straddles |= (a & line_mask) + h.node_bytes > params.line_bytes;
-      if (straddles) {
+      // Some fetch crosses a line boundary iff the largest offset in a line does (a max
+      // reduction: vectorised, unlike an or of comparisons).
+      uint64_t top_offset = 0;
+      for (const uint64_t a : addrs) top_offset = std::max(top_offset, a & line_mask);
+      if (top_offset + h.node_bytes > params.line_bytes) {
         for (const uint64_t a : addrs) c.access_range(a, h.node_bytes);
         last_line = ~uint64_t{0};
         return;
