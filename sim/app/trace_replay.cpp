@@ -16,7 +16,7 @@ TraceReplayCounts replay_trace(TraceReader& reader, const CacheParams& params) {
   // plain din line is one line access (as Dinero IV reads it). A fetch that crosses a line
   // boundary is two accesses, as in the functional tier; a chunk without one replays as
   // single-line accesses.
-  constexpr size_t kChunkRecords = size_t{1} << 16;
+  constexpr size_t kChunkRecords = size_t{1} << 12;
   std::vector<uint64_t> addrs;
   std::vector<uint32_t> sizes;
   addrs.reserve(kChunkRecords);

@@ -131,7 +131,7 @@ void TraceWriter::finish() {
 
 namespace {
 
-constexpr size_t kReadBytes = size_t{1} << 20;  // file bytes per read
+constexpr size_t kReadBytes = size_t{1} << 17;  // file bytes per read
 constexpr size_t kMaxDinLineBytes = 4096;       // a longer din line is an error
 // bin: records are decoded 64 payload bytes at a time, each record's 8 bytes read at its start.
 constexpr size_t kBlockBytes = 64 + 8;
