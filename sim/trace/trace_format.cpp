@@ -333,23 +333,29 @@ bool TraceReader::next_bin(std::vector<uint64_t>& addrs, size_t max_records) {
     // 64 bytes at a time: the high bits say where each record ends, so the records are
     // decoded without a branch on their lengths (mostly 1, 2 or 3 bytes, in no pattern). A
     // record's 8 bytes are read at its start, so a block needs 64 + 8 bytes in the buffer.
-    // (9 bytes or more: the byte loop, which rejects a varint of more than 64 bits.)
     while (n < want && size_t(end - p) >= kBlockBytes) {
       uint64_t stops = varint_stops64(p);
-      if (stops == 0) break;  // no record ends in 64 bytes: the checked loop below says why
-      unsigned start = 0;     // of the next record, in the block
+      // Bit i of run8: bytes i .. i+7 all continue a record, so one of 9 bytes or more (or a
+      // bad one) starts in the block. That block goes a record at a time through the byte
+      // loop, which rejects a varint of more than 64 bits; so does one in which no record ends.
+      const uint64_t more = ~stops, run2 = more & (more >> 1), run4 = run2 & (run2 >> 2);
+      if ((run4 & (run4 >> 4)) != 0 || stops == 0) {
+        emit(read_varint<false>(p, end, records_ + n));
+        continue;
+      }
+      // The chunk's last block: only the records still wanted.
+      if (static_cast<uint64_t>(std::popcount(stops)) > want - n) {
+        uint64_t rest = stops;
+        for (uint64_t k = want - n; k > 0; --k) rest &= rest - 1;
+        stops ^= rest;
+      }
+      unsigned start = 0;  // of the next record, in the block
       do {
         const unsigned e = static_cast<unsigned>(std::countr_zero(stops));
-        const unsigned len = e + 1 - start;
-        if (len <= 8) [[likely]] {
-          emit(unzigzag(varint_value(load_le64(p + start), len)));
-        } else {
-          const uint8_t* q = p + start;
-          emit(read_varint<false>(q, end, records_ + n));
-        }
+        emit(unzigzag(varint_value(load_le64(p + start), e + 1 - start)));
         start = e + 1;
         stops &= stops - 1;
-      } while (stops != 0 && n < want);
+      } while (stops != 0);
       p += start;
     }
 #endif
