@@ -13,11 +13,8 @@
 #include "cache/set_assoc_cache.h"
 
 namespace rtusim {
-namespace {
 
-// Moves the addresses whose line differs from the one before them (`last_line` before the
-// first) to the front, in order, and returns how many; `last_line` ends as the last one's line.
-size_t drop_repeats(std::span<uint64_t> addrs, unsigned line_shift, uint64_t& last_line) {
+size_t drop_repeated_lines(std::span<uint64_t> addrs, unsigned line_shift, uint64_t& last_line) {
   size_t kept = 0, i = 0;
 #if defined(__AVX512F__)
   // 8 at a time: each line against the one before (the last lane of the previous 8 shifted
@@ -46,8 +43,6 @@ size_t drop_repeats(std::span<uint64_t> addrs, unsigned line_shift, uint64_t& la
   }
   return kept;
 }
-
-}  // namespace
 
 TraceReplayCounts replay_trace(TraceReader& reader, const CacheParams& params) {
   const TraceHeader& h = reader.header();
@@ -91,7 +86,7 @@ TraceReplayCounts replay_trace(TraceReader& reader, const CacheParams& params) {
       if constexpr (std::is_same_v<Cache, BasicSetAssocCache<DynamicPolicy>>) {
         c.replay(addrs);
       } else {
-        const size_t kept = drop_repeats(addrs, line_shift, last_line);
+        const size_t kept = drop_repeated_lines(addrs, line_shift, last_line);
         repeats += addrs.size() - kept;
         c.replay(std::span<const uint64_t>(addrs.data(), kept));
       }
