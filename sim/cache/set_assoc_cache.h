@@ -18,6 +18,10 @@
 #include <variant>
 #include <vector>
 
+#if defined(__AVX512VL__)
+#include <immintrin.h>
+#endif
+
 #include "cache/cache_params.h"
 #include "cache/policy/policies.h"
 #include "cache/replacement_policy.h"
@@ -147,6 +151,12 @@ class BasicSetAssocCache {
     uint32_t hit_way = ways;
     if constexpr (kWays != 0) {
       uint32_t found = 0;
+#if defined(__AVX512VL__)
+      if constexpr (kWays == 4) {
+        found = _mm256_cmpeq_epi64_mask(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(t)),
+                                        _mm256_set1_epi64x(static_cast<long long>(tag)));
+      } else
+#endif
       for (uint32_t w = 0; w < kWays; ++w) found |= uint32_t{t[w] == tag} << w;
       hit_way = found != 0 ? static_cast<uint32_t>(std::countr_zero(found)) : ways;
     } else {
