@@ -173,17 +173,13 @@ class BasicSetAssocCache {
     return false;
   }
 
-  // replay() with `kWays` ways (0: any). The policy is moved into a local for the loop, so its
-  // own counters (the LRU clock) stay in registers rather than being reloaded after every
-  // store to the tags or stamps.
+  // replay() with `kWays` ways (0: any).
   template <uint32_t kWays>
   uint64_t replay_ways(std::span<const uint64_t> addrs) {
     const LineGeometry g = line_geometry();
     const uint32_t offset_bits = offset_bits_;
-    Policy policy = std::move(policy_);
     uint64_t missed = 0;
-    for (const uint64_t a : addrs) missed += lookup_fill<kWays>(g, policy, a >> offset_bits) ? 0 : 1;
-    policy_ = std::move(policy);
+    for (const uint64_t a : addrs) missed += lookup_fill<kWays>(g, policy_, a >> offset_bits) ? 0 : 1;
     accesses_ += addrs.size();
     misses_ += missed;
     return missed;
