@@ -1,5 +1,5 @@
 // Replays a bin node trace through the 8 KB / 4-way / 64 B LRU node L1 the way `rtusim replay`
-// does (replay_trace: 64 K-record chunks, repeat filter), and times, as CPU seconds (medians of
+// does (replay_trace: 4 K-record chunks, repeat filter), and times, as CPU seconds (medians of
 // 5), against the reference measured in the same run, the decode loop (the same chunked
 // TraceReader::next() calls, no cache):
 //  - replay_trace() in this process;
@@ -103,7 +103,7 @@ int main(int argc, char** argv) {
       std::vector<uint64_t> addrs;
       std::vector<uint32_t> sizes;
       uint64_t n = 0, sum = 0;
-      while (reader.next(addrs, sizes, size_t{1} << 16)) {
+      while (reader.next(addrs, sizes, size_t{1} << 12)) {
         n += addrs.size();
         for (const uint64_t x : addrs) sum += x;
       }

@@ -1,7 +1,9 @@
 // A node-fetch trace (bin or din) streamed through one set-associative cache: what `rtusim
 // replay` counts, as a library call so benchmarks time the same path.
 #pragma once
+#include <cstddef>
 #include <cstdint>
+#include <span>
 
 #include "cache/cache_params.h"
 #include "trace/trace_format.h"
@@ -15,6 +17,11 @@ struct TraceReplayCounts {
   uint64_t dram_bytes = 0;
   bool sized = false;       // some din line carried a size
 };
+
+// Moves the addresses whose line (address >> line_shift) differs from the line before them
+// (`last_line` before the first) to the front, in order, and returns how many; `last_line` ends
+// as the last address's line. replay_trace's filter of repeated single-line accesses.
+size_t drop_repeated_lines(std::span<uint64_t> addrs, unsigned line_shift, uint64_t& last_line);
 
 // Reads `reader` to its end a chunk at a time (memory independent of the trace's length).
 TraceReplayCounts replay_trace(TraceReader& reader, const CacheParams& params);

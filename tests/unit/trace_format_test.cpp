@@ -220,6 +220,27 @@ TEST_F(TraceFormatTest, RejectedTracesCloseTheirFiles) {
   EXPECT_EQ(error_of(dir_ / "none.bin").find("Too many open files"), std::string::npos);
 }
 
+// Differences of every magnitude, so records of every varint length (1 to 10 bytes) follow one
+// another in no pattern, read in chunks that end inside the reader's 64-byte blocks.
+TEST_F(TraceFormatTest, BinDecodesEveryRecordLengthInAnyOrder) {
+  std::mt19937_64 rng(5);
+  std::vector<uint64_t> addrs;
+  uint64_t x = 0;
+  for (int i = 0; i < 200000; ++i) {
+    const uint64_t d = rng() >> (rng() % 64);
+    x += (rng() & 1) ? d : 0 - d;
+    addrs.push_back(x);
+  }
+  const fs::path p = write("lengths.bin", TraceFormat::kBin, addrs);
+  for (const size_t chunk : {size_t{5}, size_t{63}, size_t{4096}}) {
+    TraceReader r(p);
+    std::vector<uint64_t> got, part;
+    std::vector<uint32_t> sizes;
+    while (r.next(part, sizes, chunk)) got.insert(got.end(), part.begin(), part.end());
+    EXPECT_EQ(got, addrs) << "chunk " << chunk;
+  }
+}
+
 TEST_F(TraceFormatTest, ChecksumSeesOrderAndEveryAddress) {
   EXPECT_NE(trace_checksum(std::vector<uint64_t>{1, 2}), trace_checksum(std::vector<uint64_t>{2, 1}));
   EXPECT_NE(trace_checksum(std::vector<uint64_t>{0}), trace_checksum(std::vector<uint64_t>{}));
