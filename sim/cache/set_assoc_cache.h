@@ -18,10 +18,6 @@
 #include <variant>
 #include <vector>
 
-#if defined(__AVX512VL__)
-#include <immintrin.h>
-#endif
-
 #include "cache/cache_params.h"
 #include "cache/policy/policies.h"
 #include "cache/replacement_policy.h"
@@ -72,16 +68,13 @@ class BasicSetAssocCache {
     return missed;
   }
 
-  // Replays single-line accesses; returns the misses among them. The common associativities
-  // get a loop with the way count fixed at compile time (the tag search unrolled).
+  // Replays single-line accesses; returns the misses among them.
   uint64_t replay(std::span<const uint64_t> addrs) {
-    switch (ways_) {
-      case 1: return replay_ways<1>(addrs);
-      case 2: return replay_ways<2>(addrs);
-      case 4: return replay_ways<4>(addrs);
-      case 8: return replay_ways<8>(addrs);
-      default: return replay_ways<0>(addrs);
-    }
+    uint64_t missed = 0;  // a local: the counters in memory might alias the tag stores
+    for (const uint64_t a : addrs) missed += lookup_fill(a >> offset_bits_) ? 0 : 1;
+    accesses_ += addrs.size();
+    misses_ += missed;
+    return missed;
   }
 
   // Whether the line holding `addr` is present; changes nothing.
@@ -121,68 +114,29 @@ class BasicSetAssocCache {
 
   bool access_line(uint64_t line) {
     ++accesses_;
-    if (lookup_fill(line_geometry(), policy_, line)) return true;
+    if (lookup_fill(line)) return true;
     ++misses_;
     return false;
   }
 
-  // What a lookup reads besides the policy, copied out of the object: a loop holding these in
-  // locals keeps them in registers (stores to the tags could alias members of the same type).
-  struct LineGeometry {
-    uint32_t ways, index_bits;
-    uint64_t set_mask;
-    uint64_t* tags;
-    uint32_t* filled;
-  };
-  LineGeometry line_geometry() { return {ways_, index_bits_, set_mask_, tags_.data(), filled_.data()}; }
-
-  // Looks `line` up; on a miss fills it. Touches no counter. kWays: the associativity when
-  // fixed at compile time, 0 for g.ways.
-  template <uint32_t kWays = 0>
-  static bool lookup_fill(const LineGeometry& g, Policy& policy, uint64_t line) {
-    const uint32_t ways = kWays != 0 ? kWays : g.ways;
-    const uint32_t set = static_cast<uint32_t>(line & g.set_mask);
-    const uint64_t tag = line >> g.index_bits;
-    uint64_t* t = &g.tags[uint64_t{set} * ways];
+  // Looks `line` up; on a miss fills it. Touches no counter.
+  bool lookup_fill(uint64_t line) {
+    const uint32_t set = static_cast<uint32_t>(line & set_mask_);
+    const uint64_t tag = line >> index_bits_;
+    uint64_t* t = &tags_[uint64_t{set} * ways_];
     // Search every way without an early exit: a fixed trip count, so the only unpredictable
-    // branch is hit versus miss. With the way count known, one bit per way (tags are unique in
-    // a set, so at most one is set): the compiler would turn the unrolled selects into a
-    // branch per way.
-    uint32_t hit_way = ways;
-    if constexpr (kWays != 0) {
-      uint32_t found = 0;
-#if defined(__AVX512VL__)
-      if constexpr (kWays == 4) {
-        found = _mm256_cmpeq_epi64_mask(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(t)),
-                                        _mm256_set1_epi64x(static_cast<long long>(tag)));
-      } else
-#endif
-      for (uint32_t w = 0; w < kWays; ++w) found |= uint32_t{t[w] == tag} << w;
-      hit_way = found != 0 ? static_cast<uint32_t>(std::countr_zero(found)) : ways;
-    } else {
-      for (uint32_t w = 0; w < ways; ++w) hit_way = t[w] == tag ? w : hit_way;
-    }
-    if (hit_way != ways) {
-      policy.touch(set, hit_way);
+    // branch is hit versus miss.
+    uint32_t hit_way = ways_;
+    for (uint32_t w = 0; w < ways_; ++w) hit_way = t[w] == tag ? w : hit_way;
+    if (hit_way != ways_) {
+      policy_.touch(set, hit_way);
       return true;
     }
     // Invalid ways first, lowest first (no invalidation: a set fills in way order).
-    const uint32_t way = g.filled[set] < ways ? g.filled[set]++ : policy.victim(set);
+    const uint32_t way = filled_[set] < ways_ ? filled_[set]++ : policy_.victim(set);
     t[way] = tag;
-    policy.fill(set, way);
+    policy_.fill(set, way);
     return false;
-  }
-
-  // replay() with `kWays` ways (0: any).
-  template <uint32_t kWays>
-  uint64_t replay_ways(std::span<const uint64_t> addrs) {
-    const LineGeometry g = line_geometry();
-    const uint32_t offset_bits = offset_bits_;
-    uint64_t missed = 0;
-    for (const uint64_t a : addrs) missed += lookup_fill<kWays>(g, policy_, a >> offset_bits) ? 0 : 1;
-    accesses_ += addrs.size();
-    misses_ += missed;
-    return missed;
   }
 
   CacheParams params_;
