@@ -272,8 +272,10 @@ uint64_t varint_stops64(const uint8_t* p) {
 
 // The zig-zag value of a varint of `len` (1..8) bytes, given the 8 little-endian bytes at its
 // start: the low 7 bits of each of its bytes, concatenated.
+// pext only where it is known to be fast: AMD before Zen 3 has BMI2 with a microcoded pext (tens
+// to hundreds of cycles), and every AVX-512 machine has a fast one; elsewhere shifts and masks.
 uint64_t varint_value(uint64_t w, unsigned len) {
-#if defined(__BMI2__)
+#if defined(__BMI2__) && defined(__AVX512F__)
   return _pext_u64(w, _bzhi_u64(0x7f7f7f7f7f7f7f7full, len * 8));
 #else
   uint64_t x = w & (~uint64_t{0} >> (64 - 8 * len)) & 0x7f7f7f7f7f7f7f7full;
