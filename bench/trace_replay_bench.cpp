@@ -103,7 +103,7 @@ int main(int argc, char** argv) {
       std::vector<uint64_t> addrs;
       std::vector<uint32_t> sizes;
       uint64_t n = 0, sum = 0;
-      while (reader.next(addrs, sizes, size_t{1} << 12)) {
+      while (reader.next(addrs, sizes, kReplayChunkRecords)) {
         n += addrs.size();
         for (const uint64_t x : addrs) sum += x;
       }

@@ -50,17 +50,16 @@ TraceReplayCounts replay_trace(TraceReader& reader, const CacheParams& params) {
   // plain din line is one line access (as Dinero IV reads it). A fetch that crosses a line
   // boundary is two accesses, as in the functional tier; a chunk without one replays as
   // single-line accesses.
-  constexpr size_t kChunkRecords = size_t{1} << 12;
   std::vector<uint64_t> addrs;
   std::vector<uint32_t> sizes;
-  addrs.reserve(kChunkRecords);
+  addrs.reserve(kReplayChunkRecords);
   SetAssocCache cache(params);
   TraceReplayCounts out;
   uint64_t repeats = 0;  // single-line accesses to the line accessed just before: hits
   const uint64_t line_mask = params.line_bytes - 1;
   const unsigned line_shift = static_cast<unsigned>(std::countr_zero(params.line_bytes));
   uint64_t last_line = ~uint64_t{0};  // line of the previous single-line access (none yet)
-  while (reader.next(addrs, sizes, kChunkRecords)) {
+  while (reader.next(addrs, sizes, kReplayChunkRecords)) {
     out.fetches += addrs.size();
     cache.visit([&](auto& c) {
       if (!sizes.empty()) {

@@ -23,7 +23,11 @@ struct TraceReplayCounts {
 // as the last address's line. replay_trace's filter of repeated single-line accesses.
 size_t drop_repeated_lines(std::span<uint64_t> addrs, unsigned line_shift, uint64_t& last_line);
 
-// Reads `reader` to its end a chunk at a time (memory independent of the trace's length).
+// Records per chunk replay_trace() reads (32 KB of addresses: they stay in the core's L2).
+constexpr size_t kReplayChunkRecords = size_t{1} << 12;
+
+// Reads `reader` to its end a chunk at a time, kReplayChunkRecords each (memory independent of
+// the trace's length).
 TraceReplayCounts replay_trace(TraceReader& reader, const CacheParams& params);
 
 }  // namespace rtusim
