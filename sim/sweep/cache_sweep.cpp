@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <bit>
-#include <future>
 #include <map>
 #include <set>
 #include <stdexcept>
@@ -238,20 +237,7 @@ void CacheSweep::feed_task(size_t task, const SweepChunk& chunk) {
 void CacheSweep::feed(std::span<const SweepFetch> fetches) {
   SweepChunk chunk;
   for (const SweepFetch& f : fetches) record(chunk, f.addr(), f.bytes(), f.tag());
-  const size_t n = tasks();
-  const size_t workers = std::min<size_t>(threads_, n);
-  if (workers <= 1) {
-    for (size_t t = 0; t < n; ++t) feed_task(t, chunk);
-    return;
-  }
-  // Worker w takes tasks w, w + workers, ...; worker 0 is this thread.
-  std::vector<std::future<void>> others;
-  for (size_t w = 1; w < workers; ++w)
-    others.push_back(std::async(std::launch::async, [&, w] {
-      for (size_t t = w; t < n; t += workers) feed_task(t, chunk);
-    }));
-  for (size_t t = 0; t < n; t += workers) feed_task(t, chunk);
-  for (auto& f : others) f.get();
+  for (size_t t = 0; t < tasks(); ++t) feed_task(t, chunk);
 }
 
 CacheSweep::PerTag CacheSweep::accesses(size_t i) const {

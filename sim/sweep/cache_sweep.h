@@ -77,9 +77,8 @@ class CacheSweep {
   static unsigned parts_for(const std::vector<CacheParams>& configs, unsigned threads);
   ~CacheSweep();
 
-  // Feeds a chunk of fetches, in order, to every configuration. The line-size groups and the
-  // side-by-side caches are independent: with threads() > 1 they share out the chunk's work
-  // (the counts are the same for any thread count).
+  // Feeds a chunk of fetches, in order, to every configuration, on this thread (the reference
+  // SweepPipeline's threads are checked against).
   void feed(std::span<const SweepFetch> fetches);
   // The same work in two steps: record() every fetch into chunks, in order, then feed_task()
   // every task (a line-size group, or a side-by-side cache) every chunk, each task its chunks in
@@ -107,8 +106,6 @@ class CacheSweep {
   bool encodes() const { return encodes_; }
   size_t tasks() const { return groups_.size() + side_.size(); }
   void feed_task(size_t task, const SweepChunk& chunk);
-  void set_threads(unsigned n) { threads_ = n ? n : 1; }
-  unsigned threads() const { return threads_; }
 
   // Of configuration `i` (constructor order): line accesses and misses per tag.
   PerTag accesses(size_t i) const;
@@ -139,7 +136,6 @@ class CacheSweep {
   uint64_t last_recorded_ = ~uint64_t{0};  // the last line record() encoded
   std::vector<SideCache> side_;
   std::vector<Where> where_;
-  unsigned threads_ = 1;
 };
 
 }  // namespace rtusim

@@ -39,14 +39,13 @@ std::vector<SweepFetch> make_stream(uint64_t image_bytes, size_t n, uint32_t see
   return out;
 }
 
-// `configs` over `stream` in one pass, several ways (set counts in one part and in three, tasks
-// on three threads; pipelines of 1, 2 and 3 threads holding 1 to 4 chunks of uneven sizes),
+// `configs` over `stream` in one pass, several ways (set counts in one part and in three;
+// pipelines of 1, 2 and 3 threads holding 1 to 4 chunks of uneven sizes),
 // against one SetAssocCache per configuration: accesses and misses per tag.
 void expect_sweeps_equal_one_cache_each(const std::vector<CacheParams>& configs,
                                         uint64_t image_bytes,
                                         const std::vector<SweepFetch>& stream) {
   CacheSweep split(configs, image_bytes, 3);  // set counts split in three parts per line
-  split.set_threads(3);  // the groups and side caches shared out: the same counts
   CacheSweep whole(configs, image_bytes);  // one part per line: every set count in one walk
   // Fed by pipelines: tasks run ahead of each other; without workers the pushing thread feeds.
   CacheSweep piped(configs, image_bytes, 2), pushed(configs, image_bytes, 2),
