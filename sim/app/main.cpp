@@ -19,7 +19,7 @@ int main(int argc, char** argv) {
   int threads = 0;
   auto add_threads = [&](CLI::App* sub) {
     sub->add_option("--threads", threads, "Tracing threads (default: all cores; 1: one thread)")
-        ->check(CLI::PositiveNumber);
+        ->check(CLI::Range(1, 4096));
   };
 
   auto* run = app.add_subcommand("run", "Run one simulation: stats.json, config.toml, image.png");
