@@ -7,6 +7,9 @@
 #include <limits>
 
 #include <glm/vec3.hpp>
+#if defined(__SSE4_1__)
+#include <smmintrin.h>
+#endif
 
 #include "geom/ray.h"
 #include "kdtree/kd_tree.h"
@@ -79,26 +82,77 @@ inline void traversal_begin(TraversalState& s, const MemoryImage& image, const R
   s.sp = 0;
   s.node = image.root_addr;
   s.wray = WatertightRay(ray.origin, ray.dir);
-  float t0 = 0.0f, t1 = ray.t_max;
+  // Per axis: 1/direction (+-inf for a zero component, handled below), the side-test origin,
+  // and where the ray crosses the scene's slab, widened by a few ulps so rounding never clips a
+  // hit on the scene's boundary.
+  constexpr float kWidenIn = 1.0f - 6.0f * std::numeric_limits<float>::epsilon();
+  constexpr float kWidenOut = 1.0f + 6.0f * std::numeric_limits<float>::epsilon();
+  float slab_in[4], slab_out[4];
+#if defined(__SSE4_1__)
+  // The three axes in three lanes at once: lane by lane the same float operations as the
+  // scalar version below, so the same values.
+  {
+    const __m128 zero = _mm_setzero_ps();
+    const __m128 o = _mm_setr_ps(ray.origin.x, ray.origin.y, ray.origin.z, 0.0f);
+    const __m128 d = _mm_setr_ps(ray.dir.x, ray.dir.y, ray.dir.z, 1.0f);
+    const __m128 inv = _mm_div_ps(_mm_set1_ps(1.0f), d);
+    // next_float_down(o): one ulp towards -inf, -denorm_min for a zero, -inf and NaN kept.
+    const __m128 up = _mm_cmpgt_ps(o, zero);  // all ones (-1) where the bits step down
+    __m128 down = _mm_castsi128_ps(_mm_add_epi32(
+        _mm_castps_si128(o), _mm_or_si128(_mm_castps_si128(up), _mm_set1_epi32(1))));
+    const __m128 keep = _mm_or_ps(
+        _mm_cmpeq_ps(o, _mm_set1_ps(-std::numeric_limits<float>::infinity())),
+        _mm_cmpunord_ps(o, o));
+    down = _mm_blendv_ps(down, o, keep);
+    down = _mm_blendv_ps(down, _mm_set1_ps(-std::numeric_limits<float>::denorm_min()),
+                         _mm_cmpeq_ps(o, zero));
+    const __m128 side = _mm_blendv_ps(o, down, _mm_cmple_ps(d, zero));
+    const __m128 bmin = _mm_setr_ps(image.bounds_min[0], image.bounds_min[1],
+                                    image.bounds_min[2], 0.0f);
+    const __m128 bmax = _mm_setr_ps(image.bounds_max[0], image.bounds_max[1],
+                                    image.bounds_max[2], 0.0f);
+    const __m128 tn = _mm_mul_ps(_mm_sub_ps(bmin, o), inv);
+    const __m128 tf = _mm_mul_ps(_mm_sub_ps(bmax, o), inv);
+    const __m128 swap = _mm_cmpgt_ps(tn, tf);
+    _mm_storeu_ps(slab_in, _mm_mul_ps(_mm_blendv_ps(tn, tf, swap), _mm_set1_ps(kWidenIn)));
+    _mm_storeu_ps(slab_out, _mm_mul_ps(_mm_blendv_ps(tf, tn, swap), _mm_set1_ps(kWidenOut)));
+    float inv4[4], abs4[4], side4[4];
+    _mm_storeu_ps(inv4, inv);
+    _mm_storeu_ps(abs4, _mm_andnot_ps(_mm_set1_ps(-0.0f), inv));
+    _mm_storeu_ps(side4, side);
+    for (int a = 0; a < 3; ++a) {
+      s.org[a] = ray.origin[a];
+      s.dir[a] = ray.dir[a];
+      s.inv_dir[a] = inv4[a];
+      s.abs_inv_dir[a] = abs4[a];
+      s.org_side[a] = side4[a];
+    }
+  }
+#else
   for (int a = 0; a < 3; ++a) {
     s.org[a] = ray.origin[a];
     s.dir[a] = ray.dir[a];
-    s.inv_dir[a] = 1.0f / ray.dir[a];  // +-inf for a zero component, handled below
+    s.inv_dir[a] = 1.0f / ray.dir[a];
     s.abs_inv_dir[a] = std::abs(s.inv_dir[a]);
     s.org_side[a] = ray.dir[a] <= 0.0f ? next_float_down(ray.origin[a]) : ray.origin[a];
+    float tn = (image.bounds_min[a] - ray.origin[a]) * s.inv_dir[a];
+    float tf = (image.bounds_max[a] - ray.origin[a]) * s.inv_dir[a];
+    if (tn > tf) std::swap(tn, tf);
+    slab_in[a] = tn * kWidenIn;
+    slab_out[a] = tf * kWidenOut;
+  }
+#endif
+  // The scene's bounds clip the ray, axis by axis; a ray parallel to an axis is clipped away
+  // when its origin lies outside that slab.
+  float t0 = 0.0f, t1 = ray.t_max;
+  for (int a = 0; a < 3; ++a) {
     const float o = ray.origin[a];
     if (ray.dir[a] == 0.0f) {
       if (o < image.bounds_min[a] || o > image.bounds_max[a]) t1 = -1.0f;
       continue;
     }
-    float tn = (image.bounds_min[a] - o) * s.inv_dir[a];
-    float tf = (image.bounds_max[a] - o) * s.inv_dir[a];
-    if (tn > tf) std::swap(tn, tf);
-    // Widen by a few ulps so rounding never clips a hit on the scene's boundary.
-    tn *= 1.0f - 6.0f * std::numeric_limits<float>::epsilon();
-    tf *= 1.0f + 6.0f * std::numeric_limits<float>::epsilon();
-    t0 = std::max(t0, tn);
-    t1 = std::min(t1, tf);
+    t0 = std::max(t0, slab_in[a]);
+    t1 = std::min(t1, slab_out[a]);
   }
   s.t_min = t0;
   s.t_max = t1;

@@ -21,21 +21,32 @@ struct WatertightRay {
   float dx = 0.0f, dy = 0.0f, dz = 1.0f;  // dir[kx], dir[ky], dir[kz] (for the refinement)
 
   WatertightRay() = default;
-  WatertightRay(const glm::vec3& o, const glm::vec3& d) {
-    const glm::vec3 a(std::abs(d.x), std::abs(d.y), std::abs(d.z));
-    kz = (a.x > a.y) ? (a.x > a.z ? 0 : 2) : (a.y > a.z ? 1 : 2);
-    kx = (kz + 1) % 3;
-    ky = (kx + 1) % 3;
+  WatertightRay(const glm::vec3& o_vec, const glm::vec3& d_vec) {
+    // Plain arrays: a glm::vec3 indexed by a run-time axis is a switch.
+    const float o[3] = {o_vec.x, o_vec.y, o_vec.z}, d[3] = {d_vec.x, d_vec.y, d_vec.z};
+    const float a[3] = {std::abs(d[0]), std::abs(d[1]), std::abs(d[2])};
+    kz = (a[0] > a[1]) ? (a[0] > a[2] ? 0 : 2) : (a[1] > a[2] ? 1 : 2);
+    kx = kz == 2 ? 0 : kz + 1;
+    ky = kx == 2 ? 0 : kx + 1;
     if (d[kz] < 0.0f) std::swap(kx, ky);  // keep the winding of the permuted frame
     ox = o[kx];
     oy = o[ky];
     oz = o[kz];
-    sx = d[kx] / d[kz];
-    sy = d[ky] / d[kz];
-    sz = 1.0f / d[kz];
     dx = d[kx];
     dy = d[ky];
     dz = d[kz];
+#if defined(__SSE2__)
+    // The three divisions as one (lane by lane the same quotients).
+    float q[4];
+    _mm_storeu_ps(q, _mm_div_ps(_mm_setr_ps(dx, dy, 1.0f, 1.0f), _mm_set1_ps(dz)));
+    sx = q[0];
+    sy = q[1];
+    sz = q[2];
+#else
+    sx = dx / dz;
+    sy = dy / dz;
+    sz = 1.0f / dz;
+#endif
   }
 };
 
