@@ -107,6 +107,20 @@ class FetchCache {
       ++c.fetches;
       if (bytes != 0) count_in(c, node_l1, addr, bytes);
     }
+    // fetch(Stream::kNode, addr, bytes) of a fetch whose bytes (> 0) lie in one line of the
+    // node L1: true when that line was there (a hit).
+    bool fetch_node_line(uint64_t addr) {
+      StreamCounters& c = caches.counters_[static_cast<int>(Stream::kNode)];
+      ++c.fetches;
+      ++c.accesses;
+      if (node_l1.access(addr)) {
+        ++c.hits;
+        return true;
+      }
+      ++c.misses;
+      c.dram_bytes += node_l1.params().line_bytes;
+      return false;
+    }
   };
 
   // Counts one fetch of `bytes` at `addr` through a concrete cache.

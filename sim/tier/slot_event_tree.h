@@ -23,7 +23,8 @@ class SlotEventTree {
   static constexpr uint64_t kFarCycles = EventWheel::kWheelCycles;
 
   explicit SlotEventTree(uint32_t slots)
-      : leaves_(std::bit_ceil(std::max<uint32_t>(slots, 2))), key_(2 * leaves_, kNone) {
+      : leaves_(std::bit_ceil(std::max<uint32_t>(slots, 2))),
+        levels_(std::countr_zero(leaves_)), key_(2 * leaves_, kNone) {
     if (slots > (1u << kSlotBits)) throw std::logic_error("slot event tree: too many slots");
   }
 
@@ -48,17 +49,40 @@ class SlotEventTree {
  private:
   static constexpr uint64_t kSlotMask = (uint64_t{1} << kSlotBits) - 1;
   // Sets `slot`'s leaf to `key`, then each node on its path to the root to its children's minimum.
+  // The climb is unrolled: entered at the tree's height, one level a case, falling through.
   [[gnu::always_inline]] void update(uint32_t slot, uint64_t key) {
+    uint64_t* const k = key_.data();
     size_t i = leaves_ + slot;
-    key_[i] = key;
-    for (; i > 1; i >>= 1) {
-      key = std::min(key, key_[i ^ 1]);
-      key_[i >> 1] = key;
+    k[i] = key;
+    auto up = [&] [[gnu::always_inline]] {
+      key = std::min(key, k[i ^ 1]);
+      i >>= 1;
+      k[i] = key;
+    };
+    static_assert(kSlotBits == 16, "one case per level");
+    switch (levels_) {
+      case 16: up(); [[fallthrough]];
+      case 15: up(); [[fallthrough]];
+      case 14: up(); [[fallthrough]];
+      case 13: up(); [[fallthrough]];
+      case 12: up(); [[fallthrough]];
+      case 11: up(); [[fallthrough]];
+      case 10: up(); [[fallthrough]];
+      case 9: up(); [[fallthrough]];
+      case 8: up(); [[fallthrough]];
+      case 7: up(); [[fallthrough]];
+      case 6: up(); [[fallthrough]];
+      case 5: up(); [[fallthrough]];
+      case 4: up(); [[fallthrough]];
+      case 3: up(); [[fallthrough]];
+      case 2: up(); [[fallthrough]];
+      default: up();
     }
   }
 
   uint64_t now_ = 0;           // the cycle of the last event taken
-  size_t leaves_;              // a power of two >= the slots
+  size_t leaves_;              // a power of two >= the slots (>= 2)
+  int levels_;                 // log2 leaves_: the levels above the leaves (1 to kSlotBits)
   std::vector<uint64_t> key_;  // [1] the root; [leaves_ + slot] a slot's event; kNone: none
 };
 

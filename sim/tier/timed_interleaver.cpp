@@ -90,7 +90,8 @@ uint64_t TimedInterleaver::send(Slot& slot, const RayStepLog::Fetch& f, uint64_t
   const uint64_t first = size.div(f.addr), last = size.div(f.addr + f.bytes - 1);
   uint64_t ready = t;
   if (!l1) {  // straight to DRAM: one request per line touched, as the unit sends them
-    account();
+    sink.fetch(stream, f.addr, f.bytes);  // its bytes are the bursts it touches
+    slot.dram_bytes += FetchCache::dram_bursts(f.addr, f.bytes) * FetchCache::kDramBurstBytes;
     for (uint64_t line = first; line <= last; ++line)
       ready = std::max(ready, dram_read(line * line_bytes, static_cast<uint32_t>(line_bytes),
                                         stream, t));
@@ -115,12 +116,10 @@ uint64_t TimedInterleaver::send_node(Slot& slot, const RayStepLog::Fetch& f, uin
   const uint64_t line = size.div(f.addr);
   if (f.bytes == 0 || size.div(f.addr + f.bytes - 1) != line) [[unlikely]]
     return send(slot, f, t, sink, caches);
-  // One line: the access says whether it was in the tags; only the node stream's bytes change.
-  const StreamCounters& counters = caches.stream(Stream::kNode);
-  const uint64_t misses = counters.misses, dram_bytes = counters.dram_bytes;
-  sink.fetch(Stream::kNode, f.addr, f.bytes);
-  slot.dram_bytes += counters.dram_bytes - dram_bytes;
-  return l1_line(node_l1_, line, counters.misses == misses, Stream::kNode, t);
+  // One line: the access says whether it was in the tags; a miss reads the line.
+  const bool hit = sink.fetch_node_line(f.addr);
+  if (!hit) slot.dram_bytes += size.divisor();
+  return l1_line(node_l1_, line, hit, Stream::kNode, t);
 }
 
 void TimedInterleaver::trace(std::span<const RayRecord> rays, std::span<Hit> hits,
