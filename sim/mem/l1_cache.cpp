@@ -79,18 +79,34 @@ bool L1Cache::read_at_as(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64
   }
   const uint64_t t = cycles_.div_up(at_ps);
   const uint64_t c = std::max(t, next_lookup_);
-  if (!queue_empty() || c < busy_until_ || c * period_ps_ > decidable_ps())
+  if (!queue_empty() || c * period_ps_ > decidable_ps())
     return read_at_general(trans, t, done_ps);
-  // Decidable now with no MSHR busy: no merge, and the first MSHR is the lowest free one
-  // (what lookup() does in this case).
-  next_lookup_ = c + 1;
+  // Decidable now, nothing queued: what read_at_general() does in this case, with the tags'
+  // concrete cache.
+  Cache& tags = *static_cast<Cache*>(tag_cache_);
   uint64_t answer = 0;
-  if (static_cast<Cache*>(tag_cache_)->access(addr)) {
-    ++hits_;
-    answer = c + p_.hit_cycles;
-  } else if (primary_miss({&trans, t}, 0, addr >> offset_bits_, c, &answer) !=
-             Outcome::kAnswered) {
-    return false;
+  if (c >= busy_until_) {
+    // No MSHR busy: no merge, and the first MSHR is the lowest free one (what lookup() does in
+    // this case).
+    next_lookup_ = c + 1;
+    if (tags.access(addr)) {
+      ++hits_;
+      answer = c + p_.hit_cycles;
+    } else if (primary_miss({&trans, t}, 0, addr >> offset_bits_, c, &answer) !=
+               Outcome::kAnswered) {
+      return false;
+    }
+  } else {
+    switch (lookup_as(tags, {&trans, t}, c, &answer)) {
+      case Outcome::kAnswered:
+        break;
+      case Outcome::kWaiting:
+        return false;
+      case Outcome::kBlocked:
+        queue_.push_back({&trans, t, c});
+        schedule_wake();
+        return false;
+    }
   }
   trans.set_response_status(tlm::TLM_OK_RESPONSE);
   *done_ps = answer * period_ps_;
@@ -137,19 +153,15 @@ void L1Cache::respond(tlm::tlm_generic_payload& trans, uint64_t cycle) {
 
 // ---- The lookup port --------------------------------------------------------------------------
 
-uint64_t L1Cache::decidable_ps() const {
-  // Our unknown fills complete after the downstream's next decision; our future reads are sent
-  // after the lookups still to decide.
-  return std::max(now_ps(), downstream_horizon_ ? downstream_horizon_->horizon_ps() : kNever);
-}
-
 uint64_t L1Cache::first_fill() const {
   uint64_t first = kUnknown;
   for (const uint64_t f : mshr_fill_) first = std::min(first, f);
   return first;
 }
 
-L1Cache::Outcome L1Cache::lookup(const Request& r, uint64_t c, uint64_t* answer_cycle) {
+template <class Cache>
+L1Cache::Outcome L1Cache::lookup_as(Cache& tags, const Request& r, uint64_t c,
+                                   uint64_t* answer_cycle) {
   const uint64_t addr = r.trans->get_address();
   const uint64_t line = addr >> offset_bits_;
   // A busy MSHR for the line (a merge; the last such, should there be several) and the lowest
@@ -173,11 +185,11 @@ L1Cache::Outcome L1Cache::lookup(const Request& r, uint64_t c, uint64_t* answer_
       if (free == n && idle) free = base + static_cast<size_t>(std::countr_zero(idle));
     }
   }
-  if (match == n && free == n && !tags_.contains(addr)) return Outcome::kBlocked;
+  if (match == n && free == n && !tags.contains(addr)) return Outcome::kBlocked;
   next_lookup_ = c + 1;
   if (match != n) {
     ++merged_;
-    tags_.access(addr);  // every lookup is one tag access
+    tags.access(addr);  // every lookup is one tag access
     if (mshr_fill_[match] != kUnknown) {
       *answer_cycle = mshr_fill_[match];
       return Outcome::kAnswered;
@@ -185,12 +197,16 @@ L1Cache::Outcome L1Cache::lookup(const Request& r, uint64_t c, uint64_t* answer_
     mshrs_[match].waiters.push_back(r.trans);
     return Outcome::kWaiting;
   }
-  if (tags_.access(addr)) {
+  if (tags.access(addr)) {
     ++hits_;
     *answer_cycle = c + p_.hit_cycles;
     return Outcome::kAnswered;
   }
   return primary_miss(r, free, line, c, answer_cycle);
+}
+
+L1Cache::Outcome L1Cache::lookup(const Request& r, uint64_t c, uint64_t* answer_cycle) {
+  return tags_.visit([&](auto& tags) { return lookup_as(tags, r, c, answer_cycle); });
 }
 
 L1Cache::Outcome L1Cache::primary_miss(const Request& r, size_t index, uint64_t line,

@@ -36,6 +36,7 @@
 // Counters: hits, primary and merged misses, mshr_stall_cycles, and the mean primary miss
 // latency (fill cycle - request time t: port wait and stall included).
 #pragma once
+#include <algorithm>
 #include <cstdint>
 #include <cstddef>
 #include <string>
@@ -127,15 +128,21 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
                                      sc_core::sc_time& delay);
   // Decides queued lookups, oldest first, while they are decidable; answers them.
   void advance();
-  // Latest time (ps) up to which every fill is known.
-  uint64_t decidable_ps() const;
+  // Latest time (ps) up to which every fill is known: our unknown fills complete after the
+  // downstream's next decision; our future reads are sent after the lookups still to decide.
+  uint64_t decidable_ps() const {
+    return std::max(now_ps(), downstream_horizon_ ? downstream_horizon_->horizon_ps() : kNever);
+  }
   // read_at() with the tags' concrete cache `Cache` (SetAssocCache's variant alternative):
   // a lookup with no MSHR busy, the common case, calls its access() inline.
   template <class Cache>
   bool read_at_as(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t* done_ps);
   // read_at() from its request's cycle t on, for any state of the port and the MSHRs.
   bool read_at_general(tlm::tlm_generic_payload& trans, uint64_t t, uint64_t* done_ps);
-  // The lookup of `r` at cycle c; kAnswered sets *answer_cycle.
+  // The lookup of `r` at cycle c; kAnswered sets *answer_cycle. lookup_as: with the tags'
+  // concrete cache `Cache` (its access() inline); lookup: through the variant.
+  template <class Cache>
+  Outcome lookup_as(Cache& tags, const Request& r, uint64_t c, uint64_t* answer_cycle);
   Outcome lookup(const Request& r, uint64_t c, uint64_t* answer_cycle);
   // The rest of a lookup that missed with MSHR `m` free (the line is now in the tags): `m`
   // reads the line downstream.

@@ -123,13 +123,21 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
   void schedule_step(uint32_t slot, uint64_t cycle);
   // All data the slot waited for is there at `cycle`.
   void data_ready(uint32_t slot, uint64_t cycle);
-  void push(uint32_t slot, uint64_t cycle) { events_.push(cycle, slot); }
+  [[gnu::always_inline]] void push(uint32_t slot, uint64_t cycle) { events_.push(cycle, slot); }
   // Issues fetches [first, last) of the slot's step at `cycle`; schedules the slot when all
   // are in.
   void issue(uint32_t slot, size_t first, size_t last, uint64_t cycle);
+  // issue(slot, 0, 1, cycle) for a step's node fetch, with a fast path for the common case: one
+  // line, read from the C++ node L1 by direct call.
+  void issue_node(uint32_t slot, uint64_t cycle);
   tlm::tlm_sync_enum nb_transport_bw(tlm::tlm_generic_payload& trans, tlm::tlm_phase& phase,
                                      sc_core::sc_time& delay);
   void arrived(tlm::tlm_generic_payload& trans, uint64_t at_ps);
+  // Throws unless the memory answered TLM_OK_RESPONSE.
+  static void check_response(const tlm::tlm_generic_payload& trans) {
+    if (trans.get_response_status() != tlm::TLM_OK_RESPONSE) [[unlikely]] memory_error(trans);
+  }
+  [[noreturn, gnu::cold]] static void memory_error(const tlm::tlm_generic_payload& trans);
   uint64_t horizon() const;
   uint64_t cycle_at_or_after(uint64_t t_ps) const { return cycles_.div_up(t_ps); }
   void trace(uint64_t cycle);  // samples the VCD variables, if any
