@@ -114,7 +114,8 @@ bool L1Cache::read_at_as(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64
 }
 
 bool L1Cache::read_at_general(tlm::tlm_generic_payload& trans, uint64_t t, uint64_t* done_ps) {
-  if (!queue_empty()) advance();  // the downstream may have moved on
+  // The downstream may have moved on (else the backlog's front is stuck as advance() left it).
+  if (!queue_empty() && !(stalled_ && decidable_ps() <= stalled_limit_ps_)) advance();
   const uint64_t c = std::max(t, next_lookup_);
   if (!queue_empty() || c * period_ps_ > decidable_ps()) {
     queue_.push_back({&trans, t});  // behind the backlog: the wake-up is set
@@ -213,6 +214,7 @@ L1Cache::Outcome L1Cache::primary_miss(const Request& r, size_t index, uint64_t 
                                        uint64_t c, uint64_t* answer_cycle) {
   // A primary miss (the line is now allocated): the MSHR reads the line downstream at c + H.
   ++primary_;
+  stalled_ = false;
   if (r.blocked_at != kUnknown) stall_cycles_ += c - r.blocked_at;
   Mshr& m = mshrs_[index];
   mshr_line_[index] = line;
@@ -254,10 +256,16 @@ void L1Cache::advance() {
       // Refused every cycle until the first fill frees an MSHR: decidable once no fill unknown
       // so far can come earlier.
       c = first_fill();
-      if (c == kUnknown || c * period_ps_ > limit) break;
+      if (c == kUnknown || c * period_ps_ > limit) {
+        stall(limit);
+        break;
+      }
     } else {
       c = std::max(r.t, next_lookup_);
-      if (c * period_ps_ > limit) break;
+      if (c * period_ps_ > limit) {
+        stall(limit);
+        break;
+      }
     }
     uint64_t answer = 0;
     const Outcome o = lookup(r, c, &answer);
@@ -332,6 +340,7 @@ void L1Cache::fill(size_t m, uint64_t done_ps) {
                            " became known after the lookup at cycle " +
                            std::to_string(next_lookup_ - 1) + " (the downstream decided late)");
   mshr_fill_[m] = c;
+  stalled_ = false;
   busy_until_ = 0;
   for (const uint64_t f : mshr_fill_) busy_until_ = std::max(busy_until_, f);
   ++fills_;

@@ -187,10 +187,21 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
     if (++queue_head_ == queue_.size()) {
       queue_.clear();
       queue_head_ = 0;
+      stalled_ = false;
     } else if (queue_head_ >= 1024 && 2 * queue_head_ >= queue_.size()) {
       queue_.erase(queue_.begin(), queue_.begin() + static_cast<std::ptrdiff_t>(queue_head_));
       queue_head_ = 0;
     }
+  }
+  // advance() stopped at the backlog's front, undecidable at decidable_ps() =
+  // stalled_limit_ps_, and nothing its decision depends on but that limit has changed since
+  // (the front, the port's next cycle, the MSHRs' fills): it stays so while the limit does not
+  // grow.
+  bool stalled_ = false;
+  uint64_t stalled_limit_ps_ = 0;
+  void stall(uint64_t limit_ps) {
+    stalled_ = true;
+    stalled_limit_ps_ = limit_ps;
   }
   uint64_t next_lookup_ = 0;      // the port's next free cycle
   uint64_t horizon_ps_ = kNever;  // as update_horizon() last found it
