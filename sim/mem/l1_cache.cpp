@@ -31,7 +31,7 @@ L1Cache::L1Cache(const sc_core::sc_module_name& name, const L1Params& p)
       mshr_fill_(p.mshrs, 0) {
   tags_.visit([this](auto& cache) {
     tag_cache_ = &cache;
-    read_ = &L1Cache::read_at_as<std::remove_reference_t<decltype(cache)>>;
+    read_cycle_ = &L1Cache::read_cycle_as<std::remove_reference_t<decltype(cache)>>;
   });
   for (size_t i = 0; i < mshrs_.size(); ++i) {
     mshrs_[i].tag = new FetchTag;
@@ -67,21 +67,35 @@ tlm::tlm_sync_enum L1Cache::nb_transport_fw(tlm::tlm_generic_payload& trans,
   return tlm::TLM_COMPLETED;
 }
 
-template <class Cache>
-bool L1Cache::read_at_as(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t* done_ps) {
+bool L1Cache::read_at(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t* done_ps) {
+  uint64_t answer = 0;
+  if (!valid_read(trans)) {
+    *done_ps = at_ps;
+    return true;
+  }
+  if (!(this->*read_cycle_)(trans, cycles_.div_up(at_ps), &answer)) return false;
+  *done_ps = answer * period_ps_;
+  return true;
+}
+
+bool L1Cache::valid_read(tlm::tlm_generic_payload& trans) {
   const uint64_t addr = trans.get_address();
   const uint32_t len = trans.get_data_length();
   if (trans.get_command() != tlm::TLM_READ_COMMAND || len == 0 ||
       (addr >> offset_bits_) != ((addr + len - 1) >> offset_bits_)) {
     trans.set_response_status(tlm::TLM_GENERIC_ERROR_RESPONSE);  // one line per request
-    *done_ps = at_ps;
-    return true;
+    return false;
   }
-  const uint64_t t = cycles_.div_up(at_ps);
+  return true;
+}
+
+template <class Cache>
+bool L1Cache::read_cycle_as(tlm::tlm_generic_payload& trans, uint64_t t, uint64_t* answer_cycle) {
+  const uint64_t addr = trans.get_address();
   const uint64_t c = std::max(t, next_lookup_);
   if (!queue_empty() || c * period_ps_ > decidable_ps())
-    return read_at_general(trans, t, done_ps);
-  // Decidable now, nothing queued: what read_at_general() does in this case, with the tags'
+    return read_general(trans, t, answer_cycle);
+  // Decidable now, nothing queued: what read_general() does in this case, with the tags'
   // concrete cache.
   Cache& tags = *static_cast<Cache*>(tag_cache_);
   uint64_t answer = 0;
@@ -109,11 +123,11 @@ bool L1Cache::read_at_as(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64
     }
   }
   trans.set_response_status(tlm::TLM_OK_RESPONSE);
-  *done_ps = answer * period_ps_;
+  *answer_cycle = answer;
   return true;
 }
 
-bool L1Cache::read_at_general(tlm::tlm_generic_payload& trans, uint64_t t, uint64_t* done_ps) {
+bool L1Cache::read_general(tlm::tlm_generic_payload& trans, uint64_t t, uint64_t* answer_cycle) {
   // The downstream may have moved on (else the backlog's front is stuck as advance() left it).
   if (!queue_empty() && !(stalled_ && decidable_ps() <= stalled_limit_ps_)) advance();
   const uint64_t c = std::max(t, next_lookup_);
@@ -123,11 +137,9 @@ bool L1Cache::read_at_general(tlm::tlm_generic_payload& trans, uint64_t t, uint6
     return false;
   }
   // Decidable now: a hit or a merge with a known fill completes in the return path.
-  uint64_t answer = 0;
-  switch (lookup({&trans, t}, c, &answer)) {
+  switch (lookup({&trans, t}, c, answer_cycle)) {
     case Outcome::kAnswered:
       trans.set_response_status(tlm::TLM_OK_RESPONSE);
-      *done_ps = answer * period_ps_;
       return true;
     case Outcome::kWaiting:
       return false;

@@ -95,11 +95,19 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
     if (!on) schedule_wake();  // its process takes over from here
   }
   void act_at_horizon(uint64_t) override { advance(); }
-  // The upstream request by direct call (what nb_transport_fw does, in picoseconds). Through
-  // an L1Cache* (the class is final) one indirect call into read_at_as<the tags' cache type>.
-  bool read_at(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t* done_ps) override {
-    return (this->*read_)(trans, at_ps, done_ps);
+  // The upstream request by direct call (what nb_transport_fw does, in picoseconds).
+  bool read_at(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t* done_ps) override;
+  // read_at() for an initiator on the cache's clock, in its cycles: the request at cycle t (at
+  // t * clock period); true: completed, *answer_cycle the cycle of its answer. Through an
+  // L1Cache* (the class is final) one indirect call into read_cycle_as<the tags' cache type>.
+  bool read_cycle(tlm::tlm_generic_payload& trans, uint64_t t, uint64_t* answer_cycle) {
+    if (!valid_read(trans)) [[unlikely]] {
+      *answer_cycle = t;
+      return true;
+    }
+    return (this->*read_cycle_)(trans, t, answer_cycle);
   }
+  uint64_t clock_period_ps() const { return period_ps_; }
   // A fill by direct call (the MSHRs' reads name the cache as reply_to when they go by direct
   // call).
   void answered(tlm::tlm_generic_payload& trans, uint64_t at_ps) override;
@@ -133,12 +141,14 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
   uint64_t decidable_ps() const {
     return std::max(now_ps(), downstream_horizon_ ? downstream_horizon_->horizon_ps() : kNever);
   }
-  // read_at() with the tags' concrete cache `Cache` (SetAssocCache's variant alternative):
-  // a lookup with no MSHR busy, the common case, calls its access() inline.
+  // A read of one line: else the error response set.
+  bool valid_read(tlm::tlm_generic_payload& trans);
+  // read_cycle() of a valid read with the tags' concrete cache `Cache` (SetAssocCache's
+  // variant alternative): a lookup decidable at once calls its access() inline.
   template <class Cache>
-  bool read_at_as(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t* done_ps);
-  // read_at() from its request's cycle t on, for any state of the port and the MSHRs.
-  bool read_at_general(tlm::tlm_generic_payload& trans, uint64_t t, uint64_t* done_ps);
+  bool read_cycle_as(tlm::tlm_generic_payload& trans, uint64_t t, uint64_t* answer_cycle);
+  // read_cycle() of a valid read, for any state of the port and the MSHRs.
+  bool read_general(tlm::tlm_generic_payload& trans, uint64_t t, uint64_t* answer_cycle);
   // The lookup of `r` at cycle c; kAnswered sets *answer_cycle. lookup_as: with the tags'
   // concrete cache `Cache` (its access() inline); lookup: through the variant.
   template <class Cache>
@@ -162,8 +172,8 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
 
   L1Params p_;
   SetAssocCache tags_;
-  void* tag_cache_ = nullptr;  // tags_'s concrete cache, as read_ knows its type
-  bool (L1Cache::*read_)(tlm::tlm_generic_payload&, uint64_t, uint64_t*) = nullptr;
+  void* tag_cache_ = nullptr;  // tags_'s concrete cache, as read_cycle_ knows its type
+  bool (L1Cache::*read_cycle_)(tlm::tlm_generic_payload&, uint64_t, uint64_t*) = nullptr;
   uint32_t offset_bits_;
   uint64_t line_bytes_;
   uint64_t period_ps_;

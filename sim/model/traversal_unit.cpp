@@ -41,6 +41,12 @@ TraversalUnit::TraversalUnit(const sc_core::sc_module_name& name, const UnitPara
   SC_THREAD(run);
 }
 
+void TraversalUnit::set_direct_targets(L1Cache* node, DirectTarget* data) {
+  node_direct_ = node;
+  node_same_clock_ = node && node->clock_period_ps() == period_;
+  data_direct_ = data;
+}
+
 uint64_t TraversalUnit::horizon() const {
   uint64_t h = MemoryHorizon::kNever;
   for (const MemoryHorizon* m : horizons_) h = std::min(h, m->horizon_ps());
@@ -315,11 +321,13 @@ void TraversalUnit::issue_node(uint32_t slot, uint64_t t) {
   s.pending = 1;
   s.ready = t;
   s.issuing = true;
-  uint64_t done_ps = 0;
-  if (node_direct_->read_at(*p, t * period_, &done_ps)) {
+  // On the unit's clock, in its cycles (the answer is at a cycle edge: the same ready cycle).
+  uint64_t done = 0;
+  if (node_same_clock_ ? node_direct_->read_cycle(*p, t, &done)
+                       : node_direct_->read_at(*p, t * period_, &done)) {
     check_response(*p);
     free_payloads_.push_back(p);
-    s.ready = std::max(s.ready, cycle_at_or_after(done_ps));
+    s.ready = std::max(s.ready, node_same_clock_ ? done : cycle_at_or_after(done));
     --s.pending;
   }
   s.issuing = false;

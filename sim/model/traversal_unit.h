@@ -74,10 +74,7 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
   }
   // The targets bound to node_socket / data_socket, if they take reads by direct call (a C++
   // L1 for the nodes; the data cache or the DRAM for the rest); nullptr: through the socket.
-  void set_direct_targets(L1Cache* node, DirectTarget* data) {
-    node_direct_ = node;
-    data_direct_ = data;
-  }
+  void set_direct_targets(L1Cache* node, DirectTarget* data);
 
   // An answer by direct call (the unit's reads by direct call name the unit as reply_to).
   void answered(tlm::tlm_generic_payload& trans, uint64_t at_ps) override { arrived(trans, at_ps); }
@@ -154,6 +151,7 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
   bool horizons_report_ = true;
   bool horizon_moved_ = true;
   L1Cache* node_direct_ = nullptr;
+  bool node_same_clock_ = false;  // node_direct_ runs on the unit's clock: reads in cycles
   DirectTarget* data_direct_ = nullptr;
   std::vector<CallDriven*> due_;  // scratch: components acted for at one horizon
   std::vector<Slot> slots_;
