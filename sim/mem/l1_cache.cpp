@@ -78,17 +78,6 @@ bool L1Cache::read_at(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t*
   return true;
 }
 
-bool L1Cache::valid_read(tlm::tlm_generic_payload& trans) {
-  const uint64_t addr = trans.get_address();
-  const uint32_t len = trans.get_data_length();
-  if (trans.get_command() != tlm::TLM_READ_COMMAND || len == 0 ||
-      (addr >> offset_bits_) != ((addr + len - 1) >> offset_bits_)) {
-    trans.set_response_status(tlm::TLM_GENERIC_ERROR_RESPONSE);  // one line per request
-    return false;
-  }
-  return true;
-}
-
 template <class Cache>
 bool L1Cache::read_cycle_as(tlm::tlm_generic_payload& trans, uint64_t t, uint64_t* answer_cycle) {
   const uint64_t addr = trans.get_address();

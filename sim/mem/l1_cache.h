@@ -142,7 +142,16 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
     return std::max(now_ps(), downstream_horizon_ ? downstream_horizon_->horizon_ps() : kNever);
   }
   // A read of one line: else the error response set.
-  bool valid_read(tlm::tlm_generic_payload& trans);
+  bool valid_read(tlm::tlm_generic_payload& trans) {
+    const uint64_t addr = trans.get_address();
+    const uint32_t len = trans.get_data_length();
+    if (trans.get_command() != tlm::TLM_READ_COMMAND || len == 0 ||
+        (addr >> offset_bits_) != ((addr + len - 1) >> offset_bits_)) [[unlikely]] {
+      trans.set_response_status(tlm::TLM_GENERIC_ERROR_RESPONSE);  // one line per request
+      return false;
+    }
+    return true;
+  }
   // read_cycle() of a valid read with the tags' concrete cache `Cache` (SetAssocCache's
   // variant alternative): a lookup decidable at once calls its access() inline.
   template <class Cache>
