@@ -31,7 +31,7 @@ L1Cache::L1Cache(const sc_core::sc_module_name& name, const L1Params& p)
       mshr_fill_(p.mshrs, 0) {
   tags_.visit([this](auto& cache) {
     tag_cache_ = &cache;
-    read_ = &L1Cache::read_at_as<std::remove_reference_t<decltype(cache)>>;
+    read_cycle_ = &L1Cache::read_cycle_as<std::remove_reference_t<decltype(cache)>>;
   });
   for (size_t i = 0; i < mshrs_.size(); ++i) {
     mshrs_[i].tag = new FetchTag;
@@ -67,38 +67,58 @@ tlm::tlm_sync_enum L1Cache::nb_transport_fw(tlm::tlm_generic_payload& trans,
   return tlm::TLM_COMPLETED;
 }
 
-template <class Cache>
-bool L1Cache::read_at_as(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t* done_ps) {
-  const uint64_t addr = trans.get_address();
-  const uint32_t len = trans.get_data_length();
-  if (trans.get_command() != tlm::TLM_READ_COMMAND || len == 0 ||
-      (addr >> offset_bits_) != ((addr + len - 1) >> offset_bits_)) {
-    trans.set_response_status(tlm::TLM_GENERIC_ERROR_RESPONSE);  // one line per request
+bool L1Cache::read_at(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t* done_ps) {
+  uint64_t answer = 0;
+  if (!valid_read(trans)) {
     *done_ps = at_ps;
     return true;
   }
-  const uint64_t t = cycles_.div_up(at_ps);
-  const uint64_t c = std::max(t, next_lookup_);
-  if (!queue_empty() || c < busy_until_ || c * period_ps_ > decidable_ps())
-    return read_at_general(trans, t, done_ps);
-  // Decidable now with no MSHR busy: no merge, and the first MSHR is the lowest free one
-  // (what lookup() does in this case).
-  next_lookup_ = c + 1;
-  uint64_t answer = 0;
-  if (static_cast<Cache*>(tag_cache_)->access(addr)) {
-    ++hits_;
-    answer = c + p_.hit_cycles;
-  } else if (primary_miss({&trans, t}, 0, addr >> offset_bits_, c, &answer) !=
-             Outcome::kAnswered) {
-    return false;
-  }
-  trans.set_response_status(tlm::TLM_OK_RESPONSE);
+  if (!(this->*read_cycle_)(trans, cycles_.div_up(at_ps), &answer)) return false;
   *done_ps = answer * period_ps_;
   return true;
 }
 
-bool L1Cache::read_at_general(tlm::tlm_generic_payload& trans, uint64_t t, uint64_t* done_ps) {
-  if (!queue_empty()) advance();  // the downstream may have moved on
+template <class Cache>
+bool L1Cache::read_cycle_as(tlm::tlm_generic_payload& trans, uint64_t t, uint64_t* answer_cycle) {
+  const uint64_t addr = trans.get_address();
+  const uint64_t c = std::max(t, next_lookup_);
+  if (!queue_empty() || c * period_ps_ > decidable_ps())
+    return read_general(trans, t, answer_cycle);
+  // Decidable now, nothing queued: what read_general() does in this case, with the tags'
+  // concrete cache.
+  Cache& tags = *static_cast<Cache*>(tag_cache_);
+  uint64_t answer = 0;
+  if (c >= busy_until_) {
+    // No MSHR busy: no merge, and the first MSHR is the lowest free one (what lookup() does in
+    // this case).
+    next_lookup_ = c + 1;
+    if (tags.access(addr)) {
+      ++hits_;
+      answer = c + p_.hit_cycles;
+    } else if (primary_miss({&trans, t}, 0, addr >> offset_bits_, c, &answer) !=
+               Outcome::kAnswered) {
+      return false;
+    }
+  } else {
+    switch (lookup_as(tags, {&trans, t}, c, &answer)) {
+      case Outcome::kAnswered:
+        break;
+      case Outcome::kWaiting:
+        return false;
+      case Outcome::kBlocked:
+        queue_.push_back({&trans, t, c});
+        schedule_wake();
+        return false;
+    }
+  }
+  trans.set_response_status(tlm::TLM_OK_RESPONSE);
+  *answer_cycle = answer;
+  return true;
+}
+
+bool L1Cache::read_general(tlm::tlm_generic_payload& trans, uint64_t t, uint64_t* answer_cycle) {
+  // The downstream may have moved on (else the backlog's front is stuck as advance() left it).
+  if (!queue_empty() && !(stalled_ && decidable_ps() <= stalled_limit_ps_)) advance();
   const uint64_t c = std::max(t, next_lookup_);
   if (!queue_empty() || c * period_ps_ > decidable_ps()) {
     queue_.push_back({&trans, t});  // behind the backlog: the wake-up is set
@@ -106,11 +126,9 @@ bool L1Cache::read_at_general(tlm::tlm_generic_payload& trans, uint64_t t, uint6
     return false;
   }
   // Decidable now: a hit or a merge with a known fill completes in the return path.
-  uint64_t answer = 0;
-  switch (lookup({&trans, t}, c, &answer)) {
+  switch (lookup({&trans, t}, c, answer_cycle)) {
     case Outcome::kAnswered:
       trans.set_response_status(tlm::TLM_OK_RESPONSE);
-      *done_ps = answer * period_ps_;
       return true;
     case Outcome::kWaiting:
       return false;
@@ -137,19 +155,15 @@ void L1Cache::respond(tlm::tlm_generic_payload& trans, uint64_t cycle) {
 
 // ---- The lookup port --------------------------------------------------------------------------
 
-uint64_t L1Cache::decidable_ps() const {
-  // Our unknown fills complete after the downstream's next decision; our future reads are sent
-  // after the lookups still to decide.
-  return std::max(now_ps(), downstream_horizon_ ? downstream_horizon_->horizon_ps() : kNever);
-}
-
 uint64_t L1Cache::first_fill() const {
   uint64_t first = kUnknown;
   for (const uint64_t f : mshr_fill_) first = std::min(first, f);
   return first;
 }
 
-L1Cache::Outcome L1Cache::lookup(const Request& r, uint64_t c, uint64_t* answer_cycle) {
+template <class Cache>
+L1Cache::Outcome L1Cache::lookup_as(Cache& tags, const Request& r, uint64_t c,
+                                   uint64_t* answer_cycle) {
   const uint64_t addr = r.trans->get_address();
   const uint64_t line = addr >> offset_bits_;
   // A busy MSHR for the line (a merge; the last such, should there be several) and the lowest
@@ -173,11 +187,11 @@ L1Cache::Outcome L1Cache::lookup(const Request& r, uint64_t c, uint64_t* answer_
       if (free == n && idle) free = base + static_cast<size_t>(std::countr_zero(idle));
     }
   }
-  if (match == n && free == n && !tags_.contains(addr)) return Outcome::kBlocked;
+  if (match == n && free == n && !tags.contains(addr)) return Outcome::kBlocked;
   next_lookup_ = c + 1;
   if (match != n) {
     ++merged_;
-    tags_.access(addr);  // every lookup is one tag access
+    tags.access(addr);  // every lookup is one tag access
     if (mshr_fill_[match] != kUnknown) {
       *answer_cycle = mshr_fill_[match];
       return Outcome::kAnswered;
@@ -185,7 +199,7 @@ L1Cache::Outcome L1Cache::lookup(const Request& r, uint64_t c, uint64_t* answer_
     mshrs_[match].waiters.push_back(r.trans);
     return Outcome::kWaiting;
   }
-  if (tags_.access(addr)) {
+  if (tags.access(addr)) {
     ++hits_;
     *answer_cycle = c + p_.hit_cycles;
     return Outcome::kAnswered;
@@ -193,10 +207,15 @@ L1Cache::Outcome L1Cache::lookup(const Request& r, uint64_t c, uint64_t* answer_
   return primary_miss(r, free, line, c, answer_cycle);
 }
 
+L1Cache::Outcome L1Cache::lookup(const Request& r, uint64_t c, uint64_t* answer_cycle) {
+  return tags_.visit([&](auto& tags) { return lookup_as(tags, r, c, answer_cycle); });
+}
+
 L1Cache::Outcome L1Cache::primary_miss(const Request& r, size_t index, uint64_t line,
                                        uint64_t c, uint64_t* answer_cycle) {
   // A primary miss (the line is now allocated): the MSHR reads the line downstream at c + H.
   ++primary_;
+  stalled_ = false;
   if (r.blocked_at != kUnknown) stall_cycles_ += c - r.blocked_at;
   Mshr& m = mshrs_[index];
   mshr_line_[index] = line;
@@ -238,10 +257,16 @@ void L1Cache::advance() {
       // Refused every cycle until the first fill frees an MSHR: decidable once no fill unknown
       // so far can come earlier.
       c = first_fill();
-      if (c == kUnknown || c * period_ps_ > limit) break;
+      if (c == kUnknown || c * period_ps_ > limit) {
+        stall(limit);
+        break;
+      }
     } else {
       c = std::max(r.t, next_lookup_);
-      if (c * period_ps_ > limit) break;
+      if (c * period_ps_ > limit) {
+        stall(limit);
+        break;
+      }
     }
     uint64_t answer = 0;
     const Outcome o = lookup(r, c, &answer);
@@ -316,6 +341,7 @@ void L1Cache::fill(size_t m, uint64_t done_ps) {
                            " became known after the lookup at cycle " +
                            std::to_string(next_lookup_ - 1) + " (the downstream decided late)");
   mshr_fill_[m] = c;
+  stalled_ = false;
   busy_until_ = 0;
   for (const uint64_t f : mshr_fill_) busy_until_ = std::max(busy_until_, f);
   ++fills_;

@@ -36,6 +36,7 @@
 // Counters: hits, primary and merged misses, mshr_stall_cycles, and the mean primary miss
 // latency (fill cycle - request time t: port wait and stall included).
 #pragma once
+#include <algorithm>
 #include <cstdint>
 #include <cstddef>
 #include <string>
@@ -94,11 +95,19 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
     if (!on) schedule_wake();  // its process takes over from here
   }
   void act_at_horizon(uint64_t) override { advance(); }
-  // The upstream request by direct call (what nb_transport_fw does, in picoseconds). Through
-  // an L1Cache* (the class is final) one indirect call into read_at_as<the tags' cache type>.
-  bool read_at(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t* done_ps) override {
-    return (this->*read_)(trans, at_ps, done_ps);
+  // The upstream request by direct call (what nb_transport_fw does, in picoseconds).
+  bool read_at(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t* done_ps) override;
+  // read_at() for an initiator on the cache's clock, in its cycles: the request at cycle t (at
+  // t * clock period); true: completed, *answer_cycle the cycle of its answer. Through an
+  // L1Cache* (the class is final) one indirect call into read_cycle_as<the tags' cache type>.
+  bool read_cycle(tlm::tlm_generic_payload& trans, uint64_t t, uint64_t* answer_cycle) {
+    if (!valid_read(trans)) [[unlikely]] {
+      *answer_cycle = t;
+      return true;
+    }
+    return (this->*read_cycle_)(trans, t, answer_cycle);
   }
+  uint64_t clock_period_ps() const { return period_ps_; }
   // A fill by direct call (the MSHRs' reads name the cache as reply_to when they go by direct
   // call).
   void answered(tlm::tlm_generic_payload& trans, uint64_t at_ps) override;
@@ -127,15 +136,32 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
                                      sc_core::sc_time& delay);
   // Decides queued lookups, oldest first, while they are decidable; answers them.
   void advance();
-  // Latest time (ps) up to which every fill is known.
-  uint64_t decidable_ps() const;
-  // read_at() with the tags' concrete cache `Cache` (SetAssocCache's variant alternative):
-  // a lookup with no MSHR busy, the common case, calls its access() inline.
+  // Latest time (ps) up to which every fill is known: our unknown fills complete after the
+  // downstream's next decision; our future reads are sent after the lookups still to decide.
+  uint64_t decidable_ps() const {
+    return std::max(now_ps(), downstream_horizon_ ? downstream_horizon_->horizon_ps() : kNever);
+  }
+  // A read of one line: else the error response set.
+  bool valid_read(tlm::tlm_generic_payload& trans) {
+    const uint64_t addr = trans.get_address();
+    const uint32_t len = trans.get_data_length();
+    if (trans.get_command() != tlm::TLM_READ_COMMAND || len == 0 ||
+        (addr >> offset_bits_) != ((addr + len - 1) >> offset_bits_)) [[unlikely]] {
+      trans.set_response_status(tlm::TLM_GENERIC_ERROR_RESPONSE);  // one line per request
+      return false;
+    }
+    return true;
+  }
+  // read_cycle() of a valid read with the tags' concrete cache `Cache` (SetAssocCache's
+  // variant alternative): a lookup decidable at once calls its access() inline.
   template <class Cache>
-  bool read_at_as(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t* done_ps);
-  // read_at() from its request's cycle t on, for any state of the port and the MSHRs.
-  bool read_at_general(tlm::tlm_generic_payload& trans, uint64_t t, uint64_t* done_ps);
-  // The lookup of `r` at cycle c; kAnswered sets *answer_cycle.
+  bool read_cycle_as(tlm::tlm_generic_payload& trans, uint64_t t, uint64_t* answer_cycle);
+  // read_cycle() of a valid read, for any state of the port and the MSHRs.
+  bool read_general(tlm::tlm_generic_payload& trans, uint64_t t, uint64_t* answer_cycle);
+  // The lookup of `r` at cycle c; kAnswered sets *answer_cycle. lookup_as: with the tags'
+  // concrete cache `Cache` (its access() inline); lookup: through the variant.
+  template <class Cache>
+  Outcome lookup_as(Cache& tags, const Request& r, uint64_t c, uint64_t* answer_cycle);
   Outcome lookup(const Request& r, uint64_t c, uint64_t* answer_cycle);
   // The rest of a lookup that missed with MSHR `m` free (the line is now in the tags): `m`
   // reads the line downstream.
@@ -155,8 +181,8 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
 
   L1Params p_;
   SetAssocCache tags_;
-  void* tag_cache_ = nullptr;  // tags_'s concrete cache, as read_ knows its type
-  bool (L1Cache::*read_)(tlm::tlm_generic_payload&, uint64_t, uint64_t*) = nullptr;
+  void* tag_cache_ = nullptr;  // tags_'s concrete cache, as read_cycle_ knows its type
+  bool (L1Cache::*read_cycle_)(tlm::tlm_generic_payload&, uint64_t, uint64_t*) = nullptr;
   uint32_t offset_bits_;
   uint64_t line_bytes_;
   uint64_t period_ps_;
@@ -180,10 +206,21 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
     if (++queue_head_ == queue_.size()) {
       queue_.clear();
       queue_head_ = 0;
+      stalled_ = false;
     } else if (queue_head_ >= 1024 && 2 * queue_head_ >= queue_.size()) {
       queue_.erase(queue_.begin(), queue_.begin() + static_cast<std::ptrdiff_t>(queue_head_));
       queue_head_ = 0;
     }
+  }
+  // advance() stopped at the backlog's front, undecidable at decidable_ps() =
+  // stalled_limit_ps_, and nothing its decision depends on but that limit has changed since
+  // (the front, the port's next cycle, the MSHRs' fills): it stays so while the limit does not
+  // grow.
+  bool stalled_ = false;
+  uint64_t stalled_limit_ps_ = 0;
+  void stall(uint64_t limit_ps) {
+    stalled_ = true;
+    stalled_limit_ps_ = limit_ps;
   }
   uint64_t next_lookup_ = 0;      // the port's next free cycle
   uint64_t horizon_ps_ = kNever;  // as update_horizon() last found it

@@ -81,7 +81,10 @@ class EventWheel {
     const uint64_t b = wheel & (kWheelCycles - 1);
     const uint32_t slot = head_[b];
     head_[b] = link_[slot];
-    if (head_[b] == kNone) nonempty_[b / 64] &= ~(uint64_t{1} << (b % 64));
+    if (head_[b] == kNone)
+      nonempty_[b / 64] &= ~(uint64_t{1} << (b % 64));
+    else  // more this cycle (a far event of it would have come first: none is left)
+      next_ = wheel;
     cycle = wheel;
     now_ = wheel;
     return slot;

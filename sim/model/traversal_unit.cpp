@@ -41,6 +41,12 @@ TraversalUnit::TraversalUnit(const sc_core::sc_module_name& name, const UnitPara
   SC_THREAD(run);
 }
 
+void TraversalUnit::set_direct_targets(L1Cache* node, DirectTarget* data) {
+  node_direct_ = node;
+  node_same_clock_ = node && node->clock_period_ps() == period_;
+  data_direct_ = data;
+}
+
 uint64_t TraversalUnit::horizon() const {
   uint64_t h = MemoryHorizon::kNever;
   for (const MemoryHorizon* m : horizons_) h = std::min(h, m->horizon_ps());
@@ -239,28 +245,30 @@ void TraversalUnit::data_ready(uint32_t slot, uint64_t ready) {
 
 template <class Decoder>
 void TraversalUnit::process(Slot& s, uint32_t index, uint64_t t) {
-  const size_t first_triangle = first_triangle_fetch(s.fetches);
-  switch (s.phase) {
-    case Phase::kStep: {
-      s.fetches.clear();
-      s.kind = traversal_step<Decoder>(s.st, image_, s.fetches);
-      if (s.kind == StepKind::kDone) {  // not reached: finished rays leave after their leaf
-        finish_ray(index, t);
-        return;
-      }
-      ++steps_;
-      // The ray's next node is read at its next step, after the other rays' events in flight:
-      // bring it into the host's cache meanwhile (no effect on the simulation).
-      __builtin_prefetch(image_.bytes.data() + s.st.node);
-      max_stack_ = std::max(max_stack_, s.st.sp);
-      if (s.st.sp > static_cast<int>(p_.stack_depth)) ++stack_overflows_;
-      s.phase = Phase::kNodeWait;
-      issue(index, 0, 1, t);
+  if (s.phase == Phase::kStep) [[likely]] {
+    s.fetches.clear();
+    s.kind = traversal_step<Decoder>(s.st, image_, s.fetches);
+    if (s.kind == StepKind::kDone) {  // not reached: finished rays leave after their leaf
+      finish_ray(index, t);
       return;
     }
-    case Phase::kBook:
-      schedule_step(index, t);
-      return;
+    ++steps_;
+    // The ray's next node is read at its next step, after the other rays' events in flight:
+    // bring it into the host's cache meanwhile (no effect on the simulation).
+    __builtin_prefetch(image_.bytes.data() + s.st.node);
+    max_stack_ = std::max(max_stack_, s.st.sp);
+    if (s.st.sp > static_cast<int>(p_.stack_depth)) ++stack_overflows_;
+    s.phase = Phase::kNodeWait;
+    issue_node(index, t);
+    return;
+  }
+  if (s.phase == Phase::kBook) {
+    schedule_step(index, t);
+    return;
+  }
+  // The leaf's phases.
+  const size_t first_triangle = first_triangle_fetch(s.fetches);
+  switch (s.phase) {
     case Phase::kLeafBody:
       ++leaf_steps_;
       if (first_triangle == 2) {
@@ -290,6 +298,40 @@ void TraversalUnit::process(Slot& s, uint32_t index, uint64_t t) {
     default:
       throw std::logic_error("traversal unit: event for a ray that waits for data");
   }
+}
+
+void TraversalUnit::issue_node(uint32_t slot, uint64_t t) {
+  Slot& s = slots_[slot];
+  const Fetch& f = s.fetches[0];
+  const uint64_t line = node_line_.divisor();
+  const uint64_t line_start = node_line_.div(f.addr) * line;
+  if (!node_direct_ || f.stream != Stream::kNode || f.bytes == 0 ||
+      f.addr + f.bytes > line_start + line || free_payloads_.empty()) [[unlikely]] {
+    issue(slot, 0, 1, t);
+    return;
+  }
+  // What issue() does for one line read by direct call.
+  UnitPayload* p = free_payloads_.back();
+  free_payloads_.pop_back();
+  FetchTag* tag = p->tag;
+  tag->stream = Stream::kNode;
+  tag->owner = slot;
+  tag->reply_to = this;
+  init_read(*p, line_start, static_cast<uint32_t>(line));
+  s.pending = 1;
+  s.ready = t;
+  s.issuing = true;
+  // On the unit's clock, in its cycles (the answer is at a cycle edge: the same ready cycle).
+  uint64_t done = 0;
+  if (node_same_clock_ ? node_direct_->read_cycle(*p, t, &done)
+                       : node_direct_->read_at(*p, t * period_, &done)) {
+    check_response(*p);
+    free_payloads_.push_back(p);
+    s.ready = std::max(s.ready, node_same_clock_ ? done : cycle_at_or_after(done));
+    --s.pending;
+  }
+  s.issuing = false;
+  if (s.pending == 0) arrivals_.push(s.ready, slot);
 }
 
 void TraversalUnit::issue(uint32_t slot, size_t first, size_t last, uint64_t t) {
@@ -330,8 +372,13 @@ void TraversalUnit::issue(uint32_t slot, size_t first, size_t last, uint64_t t) 
         uint64_t done_ps = 0;
         // The node L1 called as an L1Cache: no virtual call on the hot path.
         if (node ? node_direct_->read_at(*p, at_ps, &done_ps)
-                 : direct->read_at(*p, at_ps, &done_ps))
-          arrived(*p, done_ps);
+                 : direct->read_at(*p, at_ps, &done_ps)) {
+          // Completed at once: what arrived() does, the payload free again at once.
+          check_response(*p);
+          free_payloads_.push_back(p);
+          s.ready = std::max(s.ready, cycle_at_or_after(done_ps));
+          --s.pending;
+        }
       } else {
         tlm::tlm_phase phase = tlm::BEGIN_REQ;
         sc_core::sc_time delay = ps(at_ps - now_ps());
@@ -352,10 +399,13 @@ tlm::tlm_sync_enum TraversalUnit::nb_transport_bw(tlm::tlm_generic_payload& tran
   return tlm::TLM_COMPLETED;
 }
 
+void TraversalUnit::memory_error(const tlm::tlm_generic_payload& trans) {
+  throw std::logic_error("traversal unit: memory error at address " +
+                         std::to_string(trans.get_address()));
+}
+
 void TraversalUnit::arrived(tlm::tlm_generic_payload& trans, uint64_t at_ps) {
-  if (trans.get_response_status() != tlm::TLM_OK_RESPONSE)
-    throw std::logic_error("traversal unit: memory error at address " +
-                           std::to_string(trans.get_address()));
+  check_response(trans);
   UnitPayload& p = static_cast<UnitPayload&>(trans);  // ours: sent by issue()
   const uint32_t slot = p.tag->owner;
   free_payloads_.push_back(&p);

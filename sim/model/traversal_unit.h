@@ -74,10 +74,7 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
   }
   // The targets bound to node_socket / data_socket, if they take reads by direct call (a C++
   // L1 for the nodes; the data cache or the DRAM for the rest); nullptr: through the socket.
-  void set_direct_targets(L1Cache* node, DirectTarget* data) {
-    node_direct_ = node;
-    data_direct_ = data;
-  }
+  void set_direct_targets(L1Cache* node, DirectTarget* data);
 
   // An answer by direct call (the unit's reads by direct call name the unit as reply_to).
   void answered(tlm::tlm_generic_payload& trans, uint64_t at_ps) override { arrived(trans, at_ps); }
@@ -123,13 +120,21 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
   void schedule_step(uint32_t slot, uint64_t cycle);
   // All data the slot waited for is there at `cycle`.
   void data_ready(uint32_t slot, uint64_t cycle);
-  void push(uint32_t slot, uint64_t cycle) { events_.push(cycle, slot); }
+  [[gnu::always_inline]] void push(uint32_t slot, uint64_t cycle) { events_.push(cycle, slot); }
   // Issues fetches [first, last) of the slot's step at `cycle`; schedules the slot when all
   // are in.
   void issue(uint32_t slot, size_t first, size_t last, uint64_t cycle);
+  // issue(slot, 0, 1, cycle) for a step's node fetch, with a fast path for the common case: one
+  // line, read from the C++ node L1 by direct call.
+  void issue_node(uint32_t slot, uint64_t cycle);
   tlm::tlm_sync_enum nb_transport_bw(tlm::tlm_generic_payload& trans, tlm::tlm_phase& phase,
                                      sc_core::sc_time& delay);
   void arrived(tlm::tlm_generic_payload& trans, uint64_t at_ps);
+  // Throws unless the memory answered TLM_OK_RESPONSE.
+  static void check_response(const tlm::tlm_generic_payload& trans) {
+    if (trans.get_response_status() != tlm::TLM_OK_RESPONSE) [[unlikely]] memory_error(trans);
+  }
+  [[noreturn, gnu::cold]] static void memory_error(const tlm::tlm_generic_payload& trans);
   uint64_t horizon() const;
   uint64_t cycle_at_or_after(uint64_t t_ps) const { return cycles_.div_up(t_ps); }
   void trace(uint64_t cycle);  // samples the VCD variables, if any
@@ -146,6 +151,7 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
   bool horizons_report_ = true;
   bool horizon_moved_ = true;
   L1Cache* node_direct_ = nullptr;
+  bool node_same_clock_ = false;  // node_direct_ runs on the unit's clock: reads in cycles
   DirectTarget* data_direct_ = nullptr;
   std::vector<CallDriven*> due_;  // scratch: components acted for at one horizon
   std::vector<Slot> slots_;
