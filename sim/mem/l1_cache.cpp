@@ -172,6 +172,18 @@ L1Cache::Outcome L1Cache::lookup_as(Cache& tags, const Request& r, uint64_t c,
   size_t match = n, free = n;
   if (c >= busy_until_) {  // none busy (the common case): the first is the lowest free one
     free = 0;
+  } else if (n <= 64) {
+    // The MSHRs of busy_mask_ only (the others are free at c); those found free drop out.
+    for (uint64_t left = busy_mask_; left; left &= left - 1) {
+      const size_t i = static_cast<size_t>(std::countr_zero(left));
+      if (c < mshr_fill_[i]) {
+        if (mshr_line_[i] == line) match = i;  // ascending: the last such wins
+      } else {
+        busy_mask_ &= ~(uint64_t{1} << i);
+      }
+    }
+    const uint64_t idle = ~busy_mask_ & (~uint64_t{0} >> (64 - n));
+    if (idle) free = static_cast<size_t>(std::countr_zero(idle));
   } else {
     // 64 MSHRs at a time, as bit masks.
     for (size_t base = 0; base < n; base += 64) {
@@ -222,6 +234,7 @@ L1Cache::Outcome L1Cache::primary_miss(const Request& r, size_t index, uint64_t 
   m.request_cycle = r.t;
   mshr_fill_[index] = kUnknown;
   busy_until_ = kUnknown;
+  if (index < 64) busy_mask_ |= uint64_t{1} << index;
   m.waiters.clear();
   const FetchTag* up = r.trans->get_extension<FetchTag>();
   m.tag->stream = up ? up->stream : Stream::kNode;

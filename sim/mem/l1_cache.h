@@ -194,6 +194,10 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
   // busy until (kUnknown until the downstream answers; busy at c while c < it).
   std::vector<uint64_t> mshr_line_, mshr_fill_;
   uint64_t busy_until_ = 0;  // the latest fill cycle among them (kUnknown: one is not known)
+  // With at most 64 MSHRs: a superset of those busy at the next lookup (set at allocation,
+  // cleared by a lookup at or after the fill; lookups come in rising cycles and a fill is never
+  // before the next lookup, so a cleared MSHR stays free until allocated again).
+  uint64_t busy_mask_ = 0;
   // Requests not looked up yet, in arrival order: queue_[queue_head_ ..]. A vector taken from
   // the front (a std::deque's push and pop are calls): emptied whenever the last is taken, and
   // its taken front dropped when it is most of it.
