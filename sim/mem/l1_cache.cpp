@@ -73,17 +73,20 @@ bool L1Cache::read_at(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t*
     *done_ps = at_ps;
     return true;
   }
-  if (!(this->*read_cycle_)(trans, cycles_.div_up(at_ps), &answer)) return false;
+  if (!(this->*read_cycle_)(trans, trans.get_extension<FetchTag>(), cycles_.div_up(at_ps),
+                           &answer))
+    return false;
   *done_ps = answer * period_ps_;
   return true;
 }
 
 template <class Cache>
-bool L1Cache::read_cycle_as(tlm::tlm_generic_payload& trans, uint64_t t, uint64_t* answer_cycle) {
+bool L1Cache::read_cycle_as(tlm::tlm_generic_payload& trans, const FetchTag* tag, uint64_t t,
+                            uint64_t* answer_cycle) {
   const uint64_t addr = trans.get_address();
   const uint64_t c = std::max(t, next_lookup_);
   if (!queue_empty() || c * period_ps_ > decidable_ps())
-    return read_general(trans, t, answer_cycle);
+    return read_general(trans, tag, t, answer_cycle);
   // Decidable now, nothing queued: what read_general() does in this case, with the tags'
   // concrete cache.
   Cache& tags = *static_cast<Cache*>(tag_cache_);
@@ -95,18 +98,18 @@ bool L1Cache::read_cycle_as(tlm::tlm_generic_payload& trans, uint64_t t, uint64_
     if (tags.access(addr)) {
       ++hits_;
       answer = c + p_.hit_cycles;
-    } else if (primary_miss({&trans, t}, 0, addr >> offset_bits_, c, &answer) !=
+    } else if (primary_miss({&trans, tag, t}, 0, addr >> offset_bits_, c, &answer) !=
                Outcome::kAnswered) {
       return false;
     }
   } else {
-    switch (lookup_as(tags, {&trans, t}, c, &answer)) {
+    switch (lookup_as(tags, {&trans, tag, t}, c, &answer)) {
       case Outcome::kAnswered:
         break;
       case Outcome::kWaiting:
         return false;
       case Outcome::kBlocked:
-        queue_.push_back({&trans, t, c});
+        queue_.push_back({&trans, tag, t, c});
         schedule_wake();
         return false;
     }
@@ -116,17 +119,18 @@ bool L1Cache::read_cycle_as(tlm::tlm_generic_payload& trans, uint64_t t, uint64_
   return true;
 }
 
-bool L1Cache::read_general(tlm::tlm_generic_payload& trans, uint64_t t, uint64_t* answer_cycle) {
+bool L1Cache::read_general(tlm::tlm_generic_payload& trans, const FetchTag* tag, uint64_t t,
+                           uint64_t* answer_cycle) {
   // The downstream may have moved on (else the backlog's front is stuck as advance() left it).
   if (!queue_empty() && !(stalled_ && decidable_ps() <= stalled_limit_ps_)) advance();
   const uint64_t c = std::max(t, next_lookup_);
   if (!queue_empty() || c * period_ps_ > decidable_ps()) {
-    queue_.push_back({&trans, t});  // behind the backlog: the wake-up is set
+    queue_.push_back({&trans, tag, t});  // behind the backlog: the wake-up is set
     schedule_wake();
     return false;
   }
   // Decidable now: a hit or a merge with a known fill completes in the return path.
-  switch (lookup({&trans, t}, c, answer_cycle)) {
+  switch (lookup({&trans, tag, t}, c, answer_cycle)) {
     case Outcome::kAnswered:
       trans.set_response_status(tlm::TLM_OK_RESPONSE);
       return true;
@@ -134,16 +138,15 @@ bool L1Cache::read_general(tlm::tlm_generic_payload& trans, uint64_t t, uint64_t
       return false;
     case Outcome::kBlocked:
       // Cannot go on before the first fill, which is after t: decided later.
-      queue_.push_back({&trans, t, c});
+      queue_.push_back({&trans, tag, t, c});
       schedule_wake();
       return false;
   }
   return false;
 }
 
-void L1Cache::respond(tlm::tlm_generic_payload& trans, uint64_t cycle) {
+void L1Cache::respond(tlm::tlm_generic_payload& trans, const FetchTag* tag, uint64_t cycle) {
   trans.set_response_status(tlm::TLM_OK_RESPONSE);
-  const FetchTag* tag = trans.get_extension<FetchTag>();
   if (tag && tag->reply_to) {
     tag->reply_to->answered(trans, cycle * period_ps_);
     return;
@@ -172,6 +175,18 @@ L1Cache::Outcome L1Cache::lookup_as(Cache& tags, const Request& r, uint64_t c,
   size_t match = n, free = n;
   if (c >= busy_until_) {  // none busy (the common case): the first is the lowest free one
     free = 0;
+  } else if (n <= 64) {
+    // The MSHRs of busy_mask_ only (the others are free at c); those found free drop out.
+    for (uint64_t left = busy_mask_; left; left &= left - 1) {
+      const size_t i = static_cast<size_t>(std::countr_zero(left));
+      if (c < mshr_fill_[i]) {
+        if (mshr_line_[i] == line) match = i;  // ascending: the last such wins
+      } else {
+        busy_mask_ &= ~(uint64_t{1} << i);
+      }
+    }
+    const uint64_t idle = ~busy_mask_ & (~uint64_t{0} >> (64 - n));
+    if (idle) free = static_cast<size_t>(std::countr_zero(idle));
   } else {
     // 64 MSHRs at a time, as bit masks.
     for (size_t base = 0; base < n; base += 64) {
@@ -196,7 +211,7 @@ L1Cache::Outcome L1Cache::lookup_as(Cache& tags, const Request& r, uint64_t c,
       *answer_cycle = mshr_fill_[match];
       return Outcome::kAnswered;
     }
-    mshrs_[match].waiters.push_back(r.trans);
+    mshrs_[match].waiters.push_back(r);
     return Outcome::kWaiting;
   }
   if (tags.access(addr)) {
@@ -222,8 +237,9 @@ L1Cache::Outcome L1Cache::primary_miss(const Request& r, size_t index, uint64_t 
   m.request_cycle = r.t;
   mshr_fill_[index] = kUnknown;
   busy_until_ = kUnknown;
+  if (index < 64) busy_mask_ |= uint64_t{1} << index;
   m.waiters.clear();
-  const FetchTag* up = r.trans->get_extension<FetchTag>();
+  const FetchTag* up = r.tag;
   m.tag->stream = up ? up->stream : Stream::kNode;
   m.tag->reply_to = downstream_direct_ ? this : nullptr;  // answered as it is sent
   init_read(m.payload, line << offset_bits_, static_cast<uint32_t>(line_bytes_));
@@ -244,7 +260,7 @@ L1Cache::Outcome L1Cache::primary_miss(const Request& r, size_t index, uint64_t 
     *answer_cycle = mshr_fill_[index];
     return Outcome::kAnswered;
   }
-  m.waiters.push_back(r.trans);
+  m.waiters.push_back(r);
   return Outcome::kWaiting;
 }
 
@@ -275,8 +291,9 @@ void L1Cache::advance() {
       continue;
     }
     tlm::tlm_generic_payload* trans = r.trans;
+    const FetchTag* tag = r.tag;
     queue_pop();
-    if (o == Outcome::kAnswered) respond(*trans, answer);
+    if (o == Outcome::kAnswered) respond(*trans, tag, answer);
   }
   schedule_wake();
 }
@@ -319,7 +336,7 @@ void L1Cache::answered(tlm::tlm_generic_payload& trans, uint64_t at_ps) {
   const size_t index = trans.get_extension<FetchTag>()->owner;
   Mshr& m = mshrs_[index];
   fill(index, at_ps);
-  for (tlm::tlm_generic_payload* w : m.waiters) respond(*w, mshr_fill_[index]);
+  for (const Request& w : m.waiters) respond(*w.trans, w.tag, mshr_fill_[index]);
   m.waiters.clear();
   advance();  // a blocked port may go on
 }

@@ -98,14 +98,17 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
   // The upstream request by direct call (what nb_transport_fw does, in picoseconds).
   bool read_at(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t* done_ps) override;
   // read_at() for an initiator on the cache's clock, in its cycles: the request at cycle t (at
-  // t * clock period); true: completed, *answer_cycle the cycle of its answer. Through an
-  // L1Cache* (the class is final) one indirect call into read_cycle_as<the tags' cache type>.
-  bool read_cycle(tlm::tlm_generic_payload& trans, uint64_t t, uint64_t* answer_cycle) {
+  // t * clock period); true: completed, *answer_cycle the cycle of its answer. `tag`: the
+  // payload's FetchTag (or nullptr if it has none), handed in so the cache need not look it up.
+  // Through an L1Cache* (the class is final) one indirect call into read_cycle_as<the tags'
+  // cache type>.
+  bool read_cycle(tlm::tlm_generic_payload& trans, const FetchTag* tag, uint64_t t,
+                  uint64_t* answer_cycle) {
     if (!valid_read(trans)) [[unlikely]] {
       *answer_cycle = t;
       return true;
     }
-    return (this->*read_cycle_)(trans, t, answer_cycle);
+    return (this->*read_cycle_)(trans, tag, t, answer_cycle);
   }
   uint64_t clock_period_ps() const { return period_ps_; }
   // A fill by direct call (the MSHRs' reads name the cache as reply_to when they go by direct
@@ -118,13 +121,14 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
   static constexpr uint64_t kUnknown = ~uint64_t{0};
   struct Request {
     tlm::tlm_generic_payload* trans;
+    const FetchTag* tag;              // its FetchTag, or nullptr
     uint64_t t;                       // its time (cycle)
     uint64_t blocked_at = kUnknown;   // first cycle it was refused for want of an MSHR
   };
   // An MSHR's line and fill cycle are in mshr_line_ / mshr_fill_ at its index.
   struct Mshr {
     uint64_t request_cycle = 0;  // the primary request's time
-    std::vector<tlm::tlm_generic_payload*> waiters;  // answered at the fill
+    std::vector<Request> waiters;  // answered at the fill
     tlm::tlm_generic_payload payload;  // the line read; owns its FetchTag
     FetchTag* tag = nullptr;
   };
@@ -155,9 +159,11 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
   // read_cycle() of a valid read with the tags' concrete cache `Cache` (SetAssocCache's
   // variant alternative): a lookup decidable at once calls its access() inline.
   template <class Cache>
-  bool read_cycle_as(tlm::tlm_generic_payload& trans, uint64_t t, uint64_t* answer_cycle);
+  bool read_cycle_as(tlm::tlm_generic_payload& trans, const FetchTag* tag, uint64_t t,
+                     uint64_t* answer_cycle);
   // read_cycle() of a valid read, for any state of the port and the MSHRs.
-  bool read_general(tlm::tlm_generic_payload& trans, uint64_t t, uint64_t* answer_cycle);
+  bool read_general(tlm::tlm_generic_payload& trans, const FetchTag* tag, uint64_t t,
+                    uint64_t* answer_cycle);
   // The lookup of `r` at cycle c; kAnswered sets *answer_cycle. lookup_as: with the tags'
   // concrete cache `Cache` (its access() inline); lookup: through the variant.
   template <class Cache>
@@ -170,7 +176,8 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
   // Earliest fill cycle among the MSHRs (all busy); kUnknown if none is known.
   uint64_t first_fill() const;
   void fill(size_t m, uint64_t done_ps);
-  void respond(tlm::tlm_generic_payload& trans, uint64_t cycle);
+  // `tag`: the request's FetchTag (or nullptr); its reply_to, if any, takes the answer.
+  void respond(tlm::tlm_generic_payload& trans, const FetchTag* tag, uint64_t cycle);
   // Recomputes the horizon after the lookup port's state may have changed; tells the watchers
   // if it moved. Every change that can move it (a request queued, advance()) ends in
   // schedule_wake(), which calls this; a lookup decided on arrival with nothing queued does not
@@ -182,7 +189,8 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
   L1Params p_;
   SetAssocCache tags_;
   void* tag_cache_ = nullptr;  // tags_'s concrete cache, as read_cycle_ knows its type
-  bool (L1Cache::*read_cycle_)(tlm::tlm_generic_payload&, uint64_t, uint64_t*) = nullptr;
+  bool (L1Cache::*read_cycle_)(tlm::tlm_generic_payload&, const FetchTag*, uint64_t,
+                               uint64_t*) = nullptr;
   uint32_t offset_bits_;
   uint64_t line_bytes_;
   uint64_t period_ps_;
@@ -194,6 +202,10 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
   // busy until (kUnknown until the downstream answers; busy at c while c < it).
   std::vector<uint64_t> mshr_line_, mshr_fill_;
   uint64_t busy_until_ = 0;  // the latest fill cycle among them (kUnknown: one is not known)
+  // With at most 64 MSHRs: a superset of those busy at the next lookup (set at allocation,
+  // cleared by a lookup at or after the fill; lookups come in rising cycles and a fill is never
+  // before the next lookup, so a cleared MSHR stays free until allocated again).
+  uint64_t busy_mask_ = 0;
   // Requests not looked up yet, in arrival order: queue_[queue_head_ ..]. A vector taken from
   // the front (a std::deque's push and pop are calls): emptied whenever the last is taken, and
   // its taken front dropped when it is most of it.

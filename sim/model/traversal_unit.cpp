@@ -323,7 +323,7 @@ void TraversalUnit::issue_node(uint32_t slot, uint64_t t) {
   s.issuing = true;
   // On the unit's clock, in its cycles (the answer is at a cycle edge: the same ready cycle).
   uint64_t done = 0;
-  if (node_same_clock_ ? node_direct_->read_cycle(*p, t, &done)
+  if (node_same_clock_ ? node_direct_->read_cycle(*p, tag, t, &done)
                        : node_direct_->read_at(*p, t * period_, &done)) {
     check_response(*p);
     free_payloads_.push_back(p);
