@@ -90,33 +90,17 @@ bool L1Cache::read_cycle_as(tlm::tlm_generic_payload& trans, const FetchTag* tag
   // Decidable now, nothing queued: what read_general() does in this case, with the tags'
   // concrete cache.
   Cache& tags = *static_cast<Cache*>(tag_cache_);
-  uint64_t answer = 0;
-  if (c >= busy_until_) {
-    // No MSHR busy: no merge, and the first MSHR is the lowest free one (what lookup() does in
-    // this case).
-    next_lookup_ = c + 1;
-    if (tags.access(addr)) {
-      ++hits_;
-      answer = c + p_.hit_cycles;
-    } else if (primary_miss({&trans, tag, t}, 0, addr >> offset_bits_, c, &answer) !=
-               Outcome::kAnswered) {
-      return false;
-    }
-  } else {
-    switch (lookup_as(tags, {&trans, tag, t}, c, &answer)) {
-      case Outcome::kAnswered:
-        break;
-      case Outcome::kWaiting:
-        return false;
-      case Outcome::kBlocked:
-        queue_.push_back({&trans, tag, t, c});
-        schedule_wake();
-        return false;
-    }
+  const Request r{&trans, tag, t};
+  if (c < busy_until_) return settle(lookup_as(tags, r, c, answer_cycle), r, c);
+  // No MSHR busy: no merge, and the first MSHR is the lowest free one (what lookup() does in
+  // this case).
+  next_lookup_ = c + 1;
+  if (tags.access(addr)) {
+    ++hits_;
+    *answer_cycle = c + p_.hit_cycles;
+    return settle(Outcome::kAnswered, r, c);
   }
-  trans.set_response_status(tlm::TLM_OK_RESPONSE);
-  *answer_cycle = answer;
-  return true;
+  return settle(primary_miss(r, 0, addr >> offset_bits_, c, answer_cycle), r, c);
 }
 
 bool L1Cache::read_general(tlm::tlm_generic_payload& trans, const FetchTag* tag, uint64_t t,
@@ -129,20 +113,10 @@ bool L1Cache::read_general(tlm::tlm_generic_payload& trans, const FetchTag* tag,
     schedule_wake();
     return false;
   }
-  // Decidable now: a hit or a merge with a known fill completes in the return path.
-  switch (lookup({&trans, tag, t}, c, answer_cycle)) {
-    case Outcome::kAnswered:
-      trans.set_response_status(tlm::TLM_OK_RESPONSE);
-      return true;
-    case Outcome::kWaiting:
-      return false;
-    case Outcome::kBlocked:
-      // Cannot go on before the first fill, which is after t: decided later.
-      queue_.push_back({&trans, tag, t, c});
-      schedule_wake();
-      return false;
-  }
-  return false;
+  // Decidable now: a hit or a merge with a known fill completes in the return path; blocked,
+  // it cannot go on before the first fill, which is after t: decided later.
+  const Request r{&trans, tag, t};
+  return settle(lookup(r, c, answer_cycle), r, c);
 }
 
 void L1Cache::respond(tlm::tlm_generic_payload& trans, const FetchTag* tag, uint64_t cycle) {

@@ -164,6 +164,22 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
   // read_cycle() of a valid read, for any state of the port and the MSHRs.
   bool read_general(tlm::tlm_generic_payload& trans, const FetchTag* tag, uint64_t t,
                     uint64_t* answer_cycle);
+  // The end of a read's lookup at cycle c: answered (true, the response set), waiting for a
+  // pending fill, or blocked: queued, decided after the first fill.
+  [[gnu::always_inline]] bool settle(Outcome o, const Request& r, uint64_t c) {
+    switch (o) {
+      case Outcome::kAnswered:
+        r.trans->set_response_status(tlm::TLM_OK_RESPONSE);
+        return true;
+      case Outcome::kWaiting:
+        return false;
+      case Outcome::kBlocked:
+        queue_.push_back({r.trans, r.tag, r.t, c});
+        schedule_wake();
+        return false;
+    }
+    return false;
+  }
   // The lookup of `r` at cycle c; kAnswered sets *answer_cycle. lookup_as: with the tags'
   // concrete cache `Cache` (its access() inline); lookup: through the variant.
   template <class Cache>
