@@ -51,21 +51,19 @@ class FetchCache {
   // Throws InputError on bad params (keys named "l1.*" and "dcache.*").
   explicit FetchCache(const FetchCacheParams& p);
 
-  // The traversal sink call: `bytes` read at `addr` on stream `s`.
-  void fetch(Stream s, uint64_t addr, uint32_t bytes) {
+  // The traversal sink call: `bytes` read at `addr` on stream `s`; returns the DRAM bytes it
+  // caused.
+  uint64_t fetch(Stream s, uint64_t addr, uint32_t bytes) {
     StreamCounters& c = counters_[static_cast<int>(s)];
     ++c.fetches;
-    if (bytes == 0) return;
-    if (s == Stream::kNode) {
-      count(c, node_l1_, addr, bytes);
-    } else if (data_cache_) {
-      count(c, *data_cache_, addr, bytes);
-    } else {
-      const uint64_t bursts = dram_bursts(addr, bytes);
-      c.accesses += bursts;
-      c.misses += bursts;
-      c.dram_bytes += bursts * kDramBurstBytes;
-    }
+    if (bytes == 0) return 0;
+    if (s == Stream::kNode) return count(c, node_l1_, addr, bytes);
+    if (data_cache_) return count(c, *data_cache_, addr, bytes);
+    const uint64_t bursts = dram_bursts(addr, bytes);
+    c.accesses += bursts;
+    c.misses += bursts;
+    c.dram_bytes += bursts * kDramBurstBytes;
+    return bursts * kDramBurstBytes;
   }
 
   // Calls f(sink) with a sink equivalent to this FetchCache whose node stream goes to the
@@ -101,31 +99,31 @@ class FetchCache {
   struct InlinedSink {
     FetchCache& caches;
     Concrete& node_l1;
-    void fetch(Stream s, uint64_t addr, uint32_t bytes) {
+    uint64_t fetch(Stream s, uint64_t addr, uint32_t bytes) {
       if (s != Stream::kNode) return caches.fetch(s, addr, bytes);
       StreamCounters& c = caches.counters_[static_cast<int>(Stream::kNode)];
       ++c.fetches;
-      if (bytes != 0) count_in(c, node_l1, addr, bytes);
+      return bytes != 0 ? count_in(c, node_l1, addr, bytes) : 0;
     }
     // fetch(Stream::kNode, addr, bytes) of a fetch whose bytes (> 0) lie in one line of the
-    // node L1: true when that line was there (a hit).
-    bool fetch_node_line(uint64_t addr) {
+    // node L1, with one line access: 0 on a hit, else the line's bytes.
+    uint64_t fetch_node_line(uint64_t addr) {
       StreamCounters& c = caches.counters_[static_cast<int>(Stream::kNode)];
       ++c.fetches;
       ++c.accesses;
       if (node_l1.access(addr)) {
         ++c.hits;
-        return true;
+        return 0;
       }
       ++c.misses;
       c.dram_bytes += node_l1.params().line_bytes;
-      return false;
+      return node_l1.params().line_bytes;
     }
   };
 
-  // Counts one fetch of `bytes` at `addr` through a concrete cache.
+  // Counts one fetch of `bytes` at `addr` through a concrete cache; returns its DRAM bytes.
   template <class Concrete>
-  static void count_in(StreamCounters& c, Concrete& cache, uint64_t addr, uint32_t bytes) {
+  static uint64_t count_in(StreamCounters& c, Concrete& cache, uint64_t addr, uint32_t bytes) {
     const uint64_t accesses_before = cache.accesses();
     const uint32_t missed = cache.access_range(addr, bytes);
     const uint64_t accessed = cache.accesses() - accesses_before;
@@ -133,10 +131,12 @@ class FetchCache {
     c.hits += accessed - missed;
     c.misses += missed;
     c.dram_bytes += uint64_t{missed} * cache.params().line_bytes;
+    return uint64_t{missed} * cache.params().line_bytes;
   }
 
-  static void count(StreamCounters& c, SetAssocCache& cache, uint64_t addr, uint32_t bytes) {
-    cache.visit([&](auto& concrete) { count_in(c, concrete, addr, bytes); });  // one dispatch
+  static uint64_t count(StreamCounters& c, SetAssocCache& cache, uint64_t addr, uint32_t bytes) {
+    // One dispatch.
+    return cache.visit([&](auto& concrete) { return count_in(c, concrete, addr, bytes); });
   }
 
   SetAssocCache node_l1_;

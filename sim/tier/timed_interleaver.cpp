@@ -73,14 +73,9 @@ template <class Sink>
 uint64_t TimedInterleaver::send(Slot& slot, const RayStepLog::Fetch& f, uint64_t t, Sink& sink,
                                 const FetchCache& caches) {
   const Stream stream = f.stream();
-  // The access itself: the caches' state and counts, its bytes charged to the ray.
-  auto account = [&] {
-    const uint64_t before = caches.dram_bytes_total();
-    sink.fetch(stream, f.addr, f.bytes);
-    slot.dram_bytes += caches.dram_bytes_total() - before;
-  };
+  // The access itself (the caches' state and counts) charges the ray the DRAM bytes it caused.
   if (f.bytes == 0) {
-    account();
+    sink.fetch(stream, f.addr, f.bytes);
     return t;
   }
   const bool node = stream == Stream::kNode;
@@ -90,22 +85,21 @@ uint64_t TimedInterleaver::send(Slot& slot, const RayStepLog::Fetch& f, uint64_t
   const uint64_t first = size.div(f.addr), last = size.div(f.addr + f.bytes - 1);
   uint64_t ready = t;
   if (!l1) {  // straight to DRAM: one request per line touched, as the unit sends them
-    sink.fetch(stream, f.addr, f.bytes);  // its bytes are the bursts it touches
-    slot.dram_bytes += FetchCache::dram_bursts(f.addr, f.bytes) * FetchCache::kDramBurstBytes;
+    slot.dram_bytes += sink.fetch(stream, f.addr, f.bytes);
     for (uint64_t line = first; line <= last; ++line)
       ready = std::max(ready, dram_read(line * line_bytes, static_cast<uint32_t>(line_bytes),
                                         stream, t));
     return ready;
   }
-  if (first == last) {  // one line: the access says whether it was in the tags
-    const uint64_t misses = caches.stream(stream).misses;
-    account();
-    return l1_line(*l1, first, caches.stream(stream).misses == misses, stream, t);
+  if (first == last) {  // one line: it was in the tags when it caused no DRAM bytes
+    const uint64_t bytes = sink.fetch(stream, f.addr, f.bytes);
+    slot.dram_bytes += bytes;
+    return l1_line(*l1, first, bytes == 0, stream, t);
   }
   const SetAssocCache& tags = node ? caches.node_l1() : *caches.data_cache();
   for (uint64_t line = first; line <= last; ++line)
     ready = std::max(ready, l1_line(*l1, line, tags.contains(line * line_bytes), stream, t));
-  account();
+  slot.dram_bytes += sink.fetch(stream, f.addr, f.bytes);
   return ready;
 }
 
@@ -116,10 +110,10 @@ uint64_t TimedInterleaver::send_node(Slot& slot, const RayStepLog::Fetch& f, uin
   const uint64_t line = size.div(f.addr);
   if (f.bytes == 0 || size.div(f.addr + f.bytes - 1) != line) [[unlikely]]
     return send(slot, f, t, sink, caches);
-  // One line: the access says whether it was in the tags; a miss reads the line.
-  const bool hit = sink.fetch_node_line(f.addr);
-  if (!hit) slot.dram_bytes += size.divisor();
-  return l1_line(node_l1_, line, hit, Stream::kNode, t);
+  // One line: it was in the tags when it caused no DRAM bytes.
+  const uint64_t bytes = sink.fetch_node_line(f.addr);
+  slot.dram_bytes += bytes;
+  return l1_line(node_l1_, line, bytes == 0, Stream::kNode, t);
 }
 
 void TimedInterleaver::trace(std::span<const RayRecord> rays, std::span<Hit> hits,
