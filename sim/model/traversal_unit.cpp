@@ -305,12 +305,12 @@ void TraversalUnit::issue_node(uint32_t slot, uint64_t t) {
   const Fetch& f = s.fetches[0];
   const uint64_t line = node_line_.divisor();
   const uint64_t line_start = node_line_.div(f.addr) * line;
-  if (!node_direct_ || f.stream != Stream::kNode || f.bytes == 0 ||
+  if (!node_same_clock_ || f.stream != Stream::kNode || f.bytes == 0 ||
       f.addr + f.bytes > line_start + line || free_payloads_.empty()) [[unlikely]] {
     issue(slot, 0, 1, t);
     return;
   }
-  // What issue() does for one line read by direct call.
+  // What issue() does for one line read by direct call, on the unit's clock in its cycles.
   UnitPayload* p = free_payloads_.back();
   free_payloads_.pop_back();
   FetchTag* tag = p->tag;
@@ -321,15 +321,8 @@ void TraversalUnit::issue_node(uint32_t slot, uint64_t t) {
   s.pending = 1;
   s.ready = t;
   s.issuing = true;
-  // On the unit's clock, in its cycles (the answer is at a cycle edge: the same ready cycle).
   uint64_t done = 0;
-  if (node_same_clock_ ? node_direct_->read_cycle(*p, tag, t, &done)
-                       : node_direct_->read_at(*p, t * period_, &done)) {
-    check_response(*p);
-    free_payloads_.push_back(p);
-    s.ready = std::max(s.ready, node_same_clock_ ? done : cycle_at_or_after(done));
-    --s.pending;
-  }
+  if (node_direct_->read_cycle(*p, tag, t, &done)) completed(s, p, done);
   s.issuing = false;
   if (s.pending == 0) arrivals_.push(s.ready, slot);
 }
@@ -372,13 +365,8 @@ void TraversalUnit::issue(uint32_t slot, size_t first, size_t last, uint64_t t) 
         uint64_t done_ps = 0;
         // The node L1 called as an L1Cache: no virtual call on the hot path.
         if (node ? node_direct_->read_at(*p, at_ps, &done_ps)
-                 : direct->read_at(*p, at_ps, &done_ps)) {
-          // Completed at once: what arrived() does, the payload free again at once.
-          check_response(*p);
-          free_payloads_.push_back(p);
-          s.ready = std::max(s.ready, cycle_at_or_after(done_ps));
-          --s.pending;
-        }
+                 : direct->read_at(*p, at_ps, &done_ps))
+          completed(s, p, cycle_at_or_after(done_ps));
       } else {
         tlm::tlm_phase phase = tlm::BEGIN_REQ;
         sc_core::sc_time delay = ps(at_ps - now_ps());

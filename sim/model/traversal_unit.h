@@ -151,7 +151,7 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
   bool horizons_report_ = true;
   bool horizon_moved_ = true;
   L1Cache* node_direct_ = nullptr;
-  bool node_same_clock_ = false;  // node_direct_ runs on the unit's clock: reads in cycles
+  bool node_same_clock_ = false;  // node_direct_ is set and on the unit's clock: reads in cycles
   DirectTarget* data_direct_ = nullptr;
   std::vector<CallDriven*> due_;  // scratch: components acted for at one horizon
   std::vector<Slot> slots_;
@@ -174,6 +174,14 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
   };
   std::deque<UnitPayload> payloads_;
   std::vector<UnitPayload*> free_payloads_;
+  // A read of slot `s` answered within the call that sent it, at cycle `ready`: what arrived()
+  // does, its payload free again at once.
+  [[gnu::always_inline]] void completed(Slot& s, UnitPayload* p, uint64_t ready) {
+    check_response(*p);
+    free_payloads_.push_back(p);
+    s.ready = std::max(s.ready, ready);
+    --s.pending;
+  }
   uint64_t last_cycle_ = 0;  // of the last event processed
 
   uint64_t steps_ = 0, leaf_steps_ = 0, isect_tests_ = 0, rays_ = 0;
