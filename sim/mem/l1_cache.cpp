@@ -242,21 +242,12 @@ void L1Cache::advance() {
   while (!queue_empty()) {
     Request& r = queue_front();
     const uint64_t limit = decidable_ps();
-    uint64_t c;
-    if (r.blocked_at != kUnknown) {
-      // Refused every cycle until the first fill frees an MSHR: decidable once no fill unknown
-      // so far can come earlier.
-      c = first_fill();
-      if (c == kUnknown || c * period_ps_ > limit) {
-        stall(limit);
-        break;
-      }
-    } else {
-      c = std::max(r.t, next_lookup_);
-      if (c * period_ps_ > limit) {
-        stall(limit);
-        break;
-      }
+    // Its lookup's cycle: refused every cycle until the first fill frees an MSHR, it is
+    // decidable once no fill unknown so far can come earlier.
+    const uint64_t c = r.blocked_at != kUnknown ? first_fill() : std::max(r.t, next_lookup_);
+    if (c == kUnknown || c * period_ps_ > limit) {
+      stall(limit);
+      break;
     }
     uint64_t answer = 0;
     const Outcome o = lookup(r, c, &answer);
