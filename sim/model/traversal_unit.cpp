@@ -32,8 +32,7 @@ TraversalUnit::TraversalUnit(const sc_core::sc_module_name& name, const UnitPara
       image_(image),
       host_(host),
       slots_(p.rays_in_flight),
-      events_(p.rays_in_flight),
-      arrivals_(p.rays_in_flight, /*slot_order=*/true),
+      queue_(p.rays_in_flight),
       step_calendar_(kCalendarCycles / 64, 0),
       lanes_(p) {
   node_socket.register_nb_transport_bw(this, &TraversalUnit::nb_transport_bw);
@@ -85,19 +84,10 @@ void TraversalUnit::run_batch() {
       h = horizon();
       h_cycle = h == MemoryHorizon::kNever ? ~uint64_t{0} : cycle_at_or_after(h);
     }
-    // Arrivals before the events of their cycle; both only before the horizon. Taking an
-    // arrival touches no memory component, so the horizon holds until an event is processed.
-    auto next_event_cycle = [&] { return events_.empty() ? ~uint64_t{0} : events_.top_cycle(); };
-    uint64_t next_event = next_event_cycle();
-    while (!arrivals_.empty()) {
-      uint64_t cycle = arrivals_.top_cycle();
-      if (cycle > next_event || cycle >= h_cycle) break;
-      const uint32_t slot = arrivals_.pop(cycle);
-      last_cycle_ = std::max(last_cycle_, cycle);
-      data_ready(slot, cycle);
-      next_event = next_event_cycle();
-    }
-    if (next_event >= h_cycle) {
+    // Arrivals before the events of their cycle (the queue's order); both only before the
+    // horizon. Taking an arrival touches no memory component: the horizon holds.
+    const uint64_t next = queue_.empty() ? ~uint64_t{0} : queue_.top_cycle();
+    if (next >= h_cycle) {
       // Nothing to do before the memory acts on its own: let the kernel get there.
       if (h == MemoryHorizon::kNever)
         throw std::logic_error("traversal unit: rays wait for memory that has nothing scheduled");
@@ -119,8 +109,13 @@ void TraversalUnit::run_batch() {
       continue;
     }
     uint64_t t;
-    const uint32_t slot = events_.pop(t);
+    bool arrival;
+    const uint32_t slot = queue_.pop(t, arrival);
     last_cycle_ = std::max(last_cycle_, t);
+    if (arrival) {
+      data_ready(slot, t);
+      continue;
+    }
     ++events_processed_;
     process<Decoder>(slots_[slot], slot, t);
     if (vcd_) trace(t);
@@ -324,7 +319,7 @@ void TraversalUnit::issue_node(uint32_t slot, uint64_t t) {
   uint64_t done = 0;
   if (node_direct_->read_cycle(*p, tag, t, &done)) completed(s, p, done);
   s.issuing = false;
-  if (s.pending == 0) arrivals_.push(s.ready, slot);
+  if (s.pending == 0) queue_.push_arrival(s.ready, slot);
 }
 
 void TraversalUnit::issue(uint32_t slot, size_t first, size_t last, uint64_t t) {
@@ -377,7 +372,7 @@ void TraversalUnit::issue(uint32_t slot, size_t first, size_t last, uint64_t t) 
     }
   }
   s.issuing = false;
-  if (s.pending == 0) arrivals_.push(s.ready, slot);
+  if (s.pending == 0) queue_.push_arrival(s.ready, slot);
 }
 
 tlm::tlm_sync_enum TraversalUnit::nb_transport_bw(tlm::tlm_generic_payload& trans,
@@ -399,7 +394,7 @@ void TraversalUnit::arrived(tlm::tlm_generic_payload& trans, uint64_t at_ps) {
   free_payloads_.push_back(&p);
   Slot& s = slots_[slot];
   s.ready = std::max(s.ready, cycle_at_or_after(at_ps));
-  if (--s.pending == 0 && !s.issuing) arrivals_.push(s.ready, slot);
+  if (--s.pending == 0 && !s.issuing) queue_.push_arrival(s.ready, slot);
 }
 
 void TraversalUnit::write_stats(Stats& stats) const {

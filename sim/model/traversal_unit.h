@@ -38,7 +38,7 @@
 #include "layout/memory_image.h"
 #include "mem/fast_divider.h"
 #include "mem/mem_protocol.h"
-#include "model/event_wheel.h"
+#include "model/unit_queue.h"
 #include "model/host_interface.h"
 #include "model/isect_lanes.h"
 #include "model/unit_params.h"
@@ -120,7 +120,7 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
   void schedule_step(uint32_t slot, uint64_t cycle);
   // All data the slot waited for is there at `cycle`.
   void data_ready(uint32_t slot, uint64_t cycle);
-  [[gnu::always_inline]] void push(uint32_t slot, uint64_t cycle) { events_.push(cycle, slot); }
+  [[gnu::always_inline]] void push(uint32_t slot, uint64_t cycle) { queue_.push_event(cycle, slot); }
   // Issues fetches [first, last) of the slot's step at `cycle`; schedules the slot when all
   // are in.
   void issue(uint32_t slot, size_t first, size_t last, uint64_t cycle);
@@ -155,8 +155,9 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
   DirectTarget* data_direct_ = nullptr;
   std::vector<CallDriven*> due_;  // scratch: components acted for at one horizon
   std::vector<Slot> slots_;
-  EventWheel events_;
-  EventWheel arrivals_;  // rays whose data is all there, by data cycle, then slot
+  // Events, and rays whose data is all there (arrivals: by data cycle, then slot, before the
+  // events of their cycle).
+  UnitQueue queue_;
   uint32_t active_ = 0;
   // The step pipeline takes one step per cycle. Bookings as a bit per cycle over a window of
   // kCalendarCycles from the current cycle (far more than any memory latency); bits behind the
