@@ -173,19 +173,13 @@ void TraversalUnit::finish_ray(uint32_t slot, uint64_t t) {
   start_ray(slot, t);
 }
 
-void TraversalUnit::schedule_step(uint32_t slot, uint64_t t) {
+void TraversalUnit::schedule_step(uint32_t slot, uint64_t t) { book_step(slot, t); }
+
+void TraversalUnit::book_step(uint32_t slot, uint64_t t) {
   constexpr uint64_t kWords = kCalendarCycles / 64;
   // Forget the bookings of cycles that have passed (the events being processed are at or after
   // the last one), a word at a time.
-  const uint64_t now_cycle = last_cycle_;
-  if (now_cycle >= calendar_clear_ + kCalendarCycles) {  // a long idle gap: forget everything
-    std::fill(step_calendar_.begin(), step_calendar_.end(), 0);
-    calendar_clear_ = now_cycle / 64 * 64;
-  }
-  while (calendar_clear_ + 64 <= now_cycle) {
-    step_calendar_[(calendar_clear_ / 64) % kWords] = 0;
-    calendar_clear_ += 64;
-  }
+  if (calendar_clear_ + 64 <= last_cycle_) [[unlikely]] forget_bookings();
   if (t >= calendar_clear_ + kCalendarCycles - 128) {  // beyond the window: book later
     slots_[slot].phase = Phase::kBook;
     push(slot, t);
@@ -212,13 +206,26 @@ void TraversalUnit::schedule_step(uint32_t slot, uint64_t t) {
   push(slot, c);
 }
 
+void TraversalUnit::forget_bookings() {
+  constexpr uint64_t kWords = kCalendarCycles / 64;
+  const uint64_t now_cycle = last_cycle_;
+  if (now_cycle >= calendar_clear_ + kCalendarCycles) {  // a long idle gap: forget everything
+    std::fill(step_calendar_.begin(), step_calendar_.end(), 0);
+    calendar_clear_ = now_cycle / 64 * 64;
+  }
+  while (calendar_clear_ + 64 <= now_cycle) {
+    step_calendar_[(calendar_clear_ / 64) % kWords] = 0;
+    calendar_clear_ += 64;
+  }
+}
+
 void TraversalUnit::data_ready(uint32_t slot, uint64_t ready) {
   Slot& s = slots_[slot];
   switch (s.phase) {
     case Phase::kNodeWait: {  // the node is in: the step is decided step_cycles later
       const uint64_t decided = ready + p_.step_cycles;
       if (s.kind == StepKind::kInterior) {
-        schedule_step(slot, decided);
+        book_step(slot, decided);
       } else {
         s.phase = Phase::kLeafBody;
         push(slot, decided);

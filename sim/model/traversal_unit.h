@@ -117,9 +117,14 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
   void start_ray(uint32_t slot, uint64_t cycle);
   void finish_ray(uint32_t slot, uint64_t cycle);
   // Books the step pipeline from `cycle` on and schedules the slot's next step there.
+  // schedule_step: a call; book_step: inline (an arrival's, in the hot loop).
   void schedule_step(uint32_t slot, uint64_t cycle);
-  // All data the slot waited for is there at `cycle`.
-  void data_ready(uint32_t slot, uint64_t cycle);
+  [[gnu::always_inline]] inline void book_step(uint32_t slot, uint64_t cycle);
+  // Clears the bookings of the words of cycles that have passed (the events being processed are
+  // at or after last_cycle_).
+  [[gnu::cold]] void forget_bookings();
+  // All data the slot waited for is there at `cycle` (inline: one per arrival, in the hot loop).
+  [[gnu::always_inline]] inline void data_ready(uint32_t slot, uint64_t cycle);
   [[gnu::always_inline]] void push(uint32_t slot, uint64_t cycle) { queue_.push_event(cycle, slot); }
   // Issues fetches [first, last) of the slot's step at `cycle`; schedules the slot when all
   // are in.
