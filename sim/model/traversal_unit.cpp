@@ -35,6 +35,16 @@ TraversalUnit::TraversalUnit(const sc_core::sc_module_name& name, const UnitPara
       queue_(p.rays_in_flight),
       step_calendar_(kCalendarCycles / 64, 0),
       lanes_(p) {
+  for (uint32_t i = 0; i < p.rays_in_flight; ++i) {
+    UnitPayload& q = node_payloads_.emplace_back();
+    q.pooled = false;
+    q.tag = new FetchTag;
+    q.tag->stream = Stream::kNode;
+    q.tag->owner = i;
+    q.tag->reply_to = this;
+    q.set_extension(q.tag);
+    init_read(q, 0, p.node_line_bytes);
+  }
   node_socket.register_nb_transport_bw(this, &TraversalUnit::nb_transport_bw);
   data_socket.register_nb_transport_bw(this, &TraversalUnit::nb_transport_bw);
   SC_THREAD(run);
@@ -43,6 +53,7 @@ TraversalUnit::TraversalUnit(const sc_core::sc_module_name& name, const UnitPara
 void TraversalUnit::set_direct_targets(L1Cache* node, DirectTarget* data) {
   node_direct_ = node;
   node_same_clock_ = node && node->clock_period_ps() == period_;
+  node_lines_match_ = node && node->params().cache.line_bytes == node_line_.divisor();
   data_direct_ = data;
 }
 
@@ -308,23 +319,22 @@ void TraversalUnit::issue_node(uint32_t slot, uint64_t t) {
   const uint64_t line = node_line_.divisor();
   const uint64_t line_start = node_line_.div(f.addr) * line;
   if (!node_same_clock_ || f.stream != Stream::kNode || f.bytes == 0 ||
-      f.addr + f.bytes > line_start + line || free_payloads_.empty()) [[unlikely]] {
+      f.addr + f.bytes > line_start + line) [[unlikely]] {
     issue(slot, 0, 1, t);
     return;
   }
-  // What issue() does for one line read by direct call, on the unit's clock in its cycles.
-  UnitPayload* p = free_payloads_.back();
-  free_payloads_.pop_back();
-  FetchTag* tag = p->tag;
-  tag->stream = Stream::kNode;
-  tag->owner = slot;
-  tag->reply_to = this;
-  init_read(*p, line_start, static_cast<uint32_t>(line));
+  // What issue() does for one line read by direct call, on the unit's clock in its cycles,
+  // with the slot's own payload.
+  UnitPayload* p = &node_payloads_[slot];
+  p->set_address(line_start);
+  p->set_response_status(tlm::TLM_INCOMPLETE_RESPONSE);
   s.pending = 1;
   s.ready = t;
   s.issuing = true;
   uint64_t done = 0;
-  if (node_direct_->read_cycle(*p, tag, t, &done)) completed(s, p, done);
+  if (node_lines_match_ ? node_direct_->read_line_cycle(*p, p->tag, t, &done)
+                        : node_direct_->read_cycle(*p, p->tag, t, &done))
+    completed(s, p, done);
   s.issuing = false;
   if (s.pending == 0) queue_.push_arrival(s.ready, slot);
 }
@@ -398,7 +408,7 @@ void TraversalUnit::arrived(tlm::tlm_generic_payload& trans, uint64_t at_ps) {
   check_response(trans);
   UnitPayload& p = static_cast<UnitPayload&>(trans);  // ours: sent by issue()
   const uint32_t slot = p.tag->owner;
-  free_payloads_.push_back(&p);
+  if (p.pooled) free_payloads_.push_back(&p);
   Slot& s = slots_[slot];
   s.ready = std::max(s.ready, cycle_at_or_after(at_ps));
   if (--s.pending == 0 && !s.issuing) queue_.push_arrival(s.ready, slot);

@@ -177,14 +177,19 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
   // memory side returns the very payload the unit sent).
   struct UnitPayload : tlm::tlm_generic_payload {
     FetchTag* tag = nullptr;  // owned by the payload as its extension
+    bool pooled = true;       // in free_payloads_ when not in flight; else a slot's own
   };
   std::deque<UnitPayload> payloads_;
   std::vector<UnitPayload*> free_payloads_;
+  // Per slot, its payload for issue_node()'s one-line node read (a slot has at most one node
+  // read in flight): command, length and tag set once, the address per read.
+  std::deque<UnitPayload> node_payloads_;
+  bool node_lines_match_ = false;  // node_direct_'s lines are node_line_'s: every read valid
   // A read of slot `s` answered within the call that sent it, at cycle `ready`: what arrived()
   // does, its payload free again at once.
   [[gnu::always_inline]] void completed(Slot& s, UnitPayload* p, uint64_t ready) {
     check_response(*p);
-    free_payloads_.push_back(p);
+    if (p->pooled) free_payloads_.push_back(p);
     s.ready = std::max(s.ready, ready);
     --s.pending;
   }
