@@ -131,7 +131,7 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
   void issue(uint32_t slot, size_t first, size_t last, uint64_t cycle);
   // issue(slot, 0, 1, cycle) for a step's node fetch, with a fast path for the common case: one
   // line, read from the C++ node L1 by direct call.
-  void issue_node(uint32_t slot, uint64_t cycle);
+  [[gnu::always_inline]] inline void issue_node(uint32_t slot, uint64_t cycle);
   tlm::tlm_sync_enum nb_transport_bw(tlm::tlm_generic_payload& trans, tlm::tlm_phase& phase,
                                      sc_core::sc_time& delay);
   void arrived(tlm::tlm_generic_payload& trans, uint64_t at_ps);
