@@ -85,7 +85,7 @@ bool L1Cache::read_cycle_as(tlm::tlm_generic_payload& trans, const FetchTag* tag
                             uint64_t* answer_cycle) {
   const uint64_t addr = trans.get_address();
   const uint64_t c = std::max(t, next_lookup_);
-  if (!queue_empty() || c * period_ps_ > decidable_ps())
+  if (!queue_empty() || !decidable_at(c * period_ps_))
     return read_general(trans, tag, t, answer_cycle);
   // Decidable now, nothing queued: what read_general() does in this case, with the tags'
   // concrete cache.

@@ -150,6 +150,10 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
   uint64_t decidable_ps() const {
     return std::max(now_ps(), downstream_horizon_ ? downstream_horizon_->horizon_ps() : kNever);
   }
+  // at_ps <= decidable_ps(), the kernel's time asked only if the downstream's horizon is before.
+  bool decidable_at(uint64_t at_ps) const {
+    return !downstream_horizon_ || at_ps <= downstream_horizon_->horizon_ps() || at_ps <= now_ps();
+  }
   // A read of one line: else the error response set.
   bool valid_read(tlm::tlm_generic_payload& trans) {
     const uint64_t addr = trans.get_address();
