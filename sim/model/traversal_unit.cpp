@@ -97,7 +97,7 @@ void TraversalUnit::run_batch() {
     }
     // Arrivals before the events of their cycle (the queue's order); both only before the
     // horizon. Taking an arrival touches no memory component: the horizon holds.
-    const uint64_t next = queue_.empty() ? ~uint64_t{0} : queue_.top_cycle();
+    const uint64_t next = queue_.top_cycle();  // all ones: nothing queued
     if (next >= h_cycle) {
       // Nothing to do before the memory acts on its own: let the kernel get there.
       if (h == MemoryHorizon::kNever)

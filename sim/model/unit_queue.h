@@ -33,7 +33,7 @@ class UnitQueue {
       : link_arrival_(slots, kNone), link_event_(slots, kNone),
         buckets_(kWheelCycles), nonempty_(kWheelCycles / 64, 0) {}
 
-  bool empty() const { return count_ == 0; }
+  bool empty() const { return next_ == kEmpty; }
 
   // push_*, top_cycle and pop are forced inline: one of each per unit event, in its hot loop.
   // Schedules slot's arrival at `cycle` (>= the cycle of the last pop).
@@ -83,21 +83,12 @@ class UnitQueue {
     k.event_tail = slot;
   }
 
-  // Cycle of the next entry (the queue must not be empty).
-  [[gnu::always_inline]] uint64_t top_cycle() {
-    if (next_ == kUnknown) {
-      uint64_t far = ~uint64_t{0};
-      if (!far_arrival_.empty()) far = far_arrival_.top() >> kSlotBits;
-      if (!far_event_.empty()) far = std::min(far, far_event_.top() >> kSlotBits);
-      next_ = std::min(next_wheel_cycle(), far);
-    }
-    return next_;
-  }
+  // Cycle of the next entry; all ones when the queue is empty.
+  [[gnu::always_inline]] uint64_t top_cycle() const { return next_; }
 
   // Takes the next entry: its slot; `cycle` receives its cycle, `arrival` its kind.
   [[gnu::always_inline]] uint32_t pop(uint64_t& cycle, bool& arrival) {
-    --count_;
-    const uint64_t c = top_cycle();
+    const uint64_t c = next_;
     cycle = c;
     now_ = c;
     const uint64_t b = c & (kWheelCycles - 1);
@@ -107,7 +98,7 @@ class UnitQueue {
       slot = take_far(far_arrival_);
       arrival = true;
       now_arrival_ = c;
-      next_ = kUnknown;
+      next_ = find_next();
       return slot;
     }
     if (k.arrival_head != kNone) {
@@ -120,7 +111,7 @@ class UnitQueue {
         slot = take_far(far_event_);
         arrival = false;
         now_event_ = c;
-        next_ = kUnknown;
+        next_ = find_next();
         return slot;
       }
       slot = k.event_head;
@@ -130,7 +121,7 @@ class UnitQueue {
     }
     if (k.arrival_head == kNone && k.event_head == kNone) {
       nonempty_[b / 64] &= ~(uint64_t{1} << (b % 64));
-      next_ = kUnknown;  // a far entry of this cycle, if any, is found at the next peek
+      next_ = find_next();  // a far entry of this cycle, if any, included
     } else {
       next_ = c;
     }
@@ -147,8 +138,7 @@ class UnitQueue {
   [[gnu::always_inline]] void before_push(uint64_t cycle) {
     // Every wheel entry must lie in [now_, now_ + kWheelCycles) for the buckets to order them.
     if (cycle < now_) [[unlikely]] behind(cycle);
-    ++count_;
-    if (next_ != kUnknown) next_ = std::min(next_, cycle);  // else found at the next peek
+    next_ = std::min(next_, cycle);
   }
   [[noreturn, gnu::cold]] void behind(uint64_t cycle) const {
     throw std::logic_error("traversal unit: an entry at cycle " + std::to_string(cycle) +
@@ -159,6 +149,13 @@ class UnitQueue {
     const uint64_t key = far.top();
     far.pop();
     return static_cast<uint32_t>(key & ((uint64_t{1} << kSlotBits) - 1));
+  }
+  // The cycle of the next entry, the wheel's or a far one (all ones: none).
+  uint64_t find_next() const {
+    uint64_t far = kEmpty;
+    if (!far_arrival_.empty()) far = far_arrival_.top() >> kSlotBits;
+    if (!far_event_.empty()) far = std::min(far, far_event_.top() >> kSlotBits);
+    return std::min(next_wheel_cycle(), far);
   }
   // First non-empty bucket from now_, as a cycle (all wheel entries are in [now_, now_ + W):
   // each kind's last cycle taken is at or before now_).
@@ -178,11 +175,10 @@ class UnitQueue {
   std::vector<Bucket> buckets_;
   std::vector<uint64_t> nonempty_;
   FarHeap far_arrival_, far_event_;
-  static constexpr uint64_t kUnknown = ~uint64_t{0};
+  static constexpr uint64_t kEmpty = ~uint64_t{0};
   uint64_t now_ = 0;                             // cycle of the last entry taken
   uint64_t now_arrival_ = 0, now_event_ = 0;     // of the last of each kind taken
-  uint64_t count_ = 0;
-  uint64_t next_ = kUnknown;  // cycle of the next entry, when known
+  uint64_t next_ = kEmpty;  // cycle of the next entry, kept at every push and pop
 };
 
 }  // namespace rtusim
