@@ -44,6 +44,7 @@ TraversalUnit::TraversalUnit(const sc_core::sc_module_name& name, const UnitPara
     q.tag->reply_to = this;
     q.set_extension(q.tag);
     init_read(q, 0, p.node_line_bytes);
+    slots_[i].node_payload = &q;
   }
   node_socket.register_nb_transport_bw(this, &TraversalUnit::nb_transport_bw);
   data_socket.register_nb_transport_bw(this, &TraversalUnit::nb_transport_bw);
@@ -325,7 +326,7 @@ void TraversalUnit::issue_node(uint32_t slot, uint64_t t) {
   }
   // What issue() does for one line read by direct call, on the unit's clock in its cycles,
   // with the slot's own payload.
-  UnitPayload* p = &node_payloads_[slot];
+  UnitPayload* p = s.node_payload;
   p->set_address(line_start);
   p->set_response_status(tlm::TLM_INCOMPLETE_RESPONSE);
   s.pending = 1;

@@ -96,6 +96,7 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
   using Fetch = RecordedFetch;
   // The fields every event touches first, in one cache line; the traversal state (its stack
   // is a kilobyte) after them.
+  struct UnitPayload;
   struct alignas(64) Slot {
     bool active = false;
     bool issuing = false;
@@ -104,6 +105,7 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
     uint32_t ray = 0;
     uint32_t pending = 0;        // line requests outstanding
     uint64_t ready = 0;          // latest data cycle among them
+    UnitPayload* node_payload = nullptr;  // its own in node_payloads_ (no deque lookup)
     FetchList fetches;           // of the current step, in issue order
     TraversalState st;
   };
