@@ -53,8 +53,9 @@ TraversalUnit::TraversalUnit(const sc_core::sc_module_name& name, const UnitPara
 
 void TraversalUnit::set_direct_targets(L1Cache* node, DirectTarget* data) {
   node_direct_ = node;
-  node_same_clock_ = node && node->clock_period_ps() == period_;
-  node_lines_match_ = node && node->params().cache.line_bytes == node_line_.divisor();
+  // On the unit's clock (reads in cycles) with the unit's node lines (every read valid).
+  node_fast_ = node && node->clock_period_ps() == period_ &&
+               node->params().cache.line_bytes == node_line_.divisor();
   data_direct_ = data;
 }
 
@@ -91,8 +92,8 @@ void TraversalUnit::run_batch() {
   uint64_t h = 0, h_cycle = 0;
   horizon_moved_ = true;
   while (active_ > 0) {
-    if (horizon_moved_ || !horizons_report_) {
-      horizon_moved_ = false;
+    if (horizon_moved_) {
+      horizon_moved_ = !horizons_report_;  // asked every time unless every horizon reports
       h = horizon();
       h_cycle = h == MemoryHorizon::kNever ? ~uint64_t{0} : cycle_at_or_after(h);
     }
@@ -233,17 +234,18 @@ void TraversalUnit::forget_bookings() {
 
 void TraversalUnit::data_ready(uint32_t slot, uint64_t ready) {
   Slot& s = slots_[slot];
-  switch (s.phase) {
-    case Phase::kNodeWait: {  // the node is in: the step is decided step_cycles later
-      const uint64_t decided = ready + p_.step_cycles;
-      if (s.kind == StepKind::kInterior) {
-        book_step(slot, decided);
-      } else {
-        s.phase = Phase::kLeafBody;
-        push(slot, decided);
-      }
-      return;
+  if (s.phase == Phase::kNodeWait) [[likely]] {
+    // The node is in: the step is decided step_cycles later.
+    const uint64_t decided = ready + p_.step_cycles;
+    if (s.kind == StepKind::kInterior) {
+      book_step(slot, decided);
+    } else {
+      s.phase = Phase::kLeafBody;
+      push(slot, decided);
     }
+    return;
+  }
+  switch (s.phase) {
     case Phase::kListWait:
       s.phase = Phase::kTriangles;
       push(slot, ready);
@@ -319,7 +321,7 @@ void TraversalUnit::issue_node(uint32_t slot, uint64_t t) {
   const Fetch& f = s.fetches[0];
   const uint64_t line = node_line_.divisor();
   const uint64_t line_start = node_line_.div(f.addr) * line;
-  if (!node_same_clock_ || f.stream != Stream::kNode || f.bytes == 0 ||
+  if (!node_fast_ || f.stream != Stream::kNode || f.bytes == 0 ||
       f.addr + f.bytes > line_start + line) [[unlikely]] {
     issue(slot, 0, 1, t);
     return;
@@ -333,9 +335,7 @@ void TraversalUnit::issue_node(uint32_t slot, uint64_t t) {
   s.ready = t;
   s.issuing = true;
   uint64_t done = 0;
-  if (node_lines_match_ ? node_direct_->read_line_cycle(*p, p->tag, t, &done)
-                        : node_direct_->read_cycle(*p, p->tag, t, &done))
-    completed(s, p, done);
+  if (node_direct_->read_line_cycle(*p, p->tag, t, &done)) completed(s, p, done);
   s.issuing = false;
   if (s.pending == 0) queue_.push_arrival(s.ready, slot);
 }

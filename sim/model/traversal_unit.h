@@ -158,7 +158,9 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
   bool horizons_report_ = true;
   bool horizon_moved_ = true;
   L1Cache* node_direct_ = nullptr;
-  bool node_same_clock_ = false;  // node_direct_ is set and on the unit's clock: reads in cycles
+  // node_direct_ is set, on the unit's clock (reads in cycles) and its lines are the unit's
+  // node lines (every one-line read valid): issue_node()'s fast path.
+  bool node_fast_ = false;
   DirectTarget* data_direct_ = nullptr;
   std::vector<CallDriven*> due_;  // scratch: components acted for at one horizon
   std::vector<Slot> slots_;
@@ -186,7 +188,6 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
   // Per slot, its payload for issue_node()'s one-line node read (a slot has at most one node
   // read in flight): command, length and tag set once, the address per read.
   std::deque<UnitPayload> node_payloads_;
-  bool node_lines_match_ = false;  // node_direct_'s lines are node_line_'s: every read valid
   // A read of slot `s` answered within the call that sent it, at cycle `ready`: what arrived()
   // does, its payload free again at once.
   [[gnu::always_inline]] void completed(Slot& s, UnitPayload* p, uint64_t ready) {
