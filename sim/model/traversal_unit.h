@@ -115,7 +115,7 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
   void run_batch();
   // Times inside the unit are cycles of its clock; picoseconds only at the sockets.
   template <class Decoder>
-  void process(Slot& s, uint32_t index, uint64_t cycle);
+  [[gnu::always_inline]] inline void process(Slot& s, uint32_t index, uint64_t cycle);
   void start_ray(uint32_t slot, uint64_t cycle);
   void finish_ray(uint32_t slot, uint64_t cycle);
   // Books the step pipeline from `cycle` on and schedules the slot's next step there.
