@@ -85,7 +85,7 @@ bool L1Cache::read_cycle_as(tlm::tlm_generic_payload& trans, const FetchTag* tag
                             uint64_t* answer_cycle) {
   const uint64_t addr = trans.get_address();
   const uint64_t c = std::max(t, next_lookup_);
-  if (!queue_empty() || c * period_ps_ > decidable_ps())
+  if (!queue_empty() || !decidable_at(c * period_ps_))
     return read_general(trans, tag, t, answer_cycle);
   // Decidable now, nothing queued: what read_general() does in this case, with the tags'
   // concrete cache.
@@ -109,8 +109,11 @@ bool L1Cache::read_general(tlm::tlm_generic_payload& trans, const FetchTag* tag,
   if (!queue_empty() && !(stalled_ && decidable_ps() <= stalled_limit_ps_)) advance();
   const uint64_t c = std::max(t, next_lookup_);
   if (!queue_empty() || c * period_ps_ > decidable_ps()) {
-    queue_.push_back({&trans, tag, t});  // behind the backlog: the wake-up is set
-    schedule_wake();
+    // Behind a backlog the front, and so the horizon and the wake-up, stay as they are (driven
+    // by call there is no wake-up to renew).
+    const bool front = queue_empty();
+    queue_.push_back({&trans, tag, t});
+    if (front || !driven_by_call_) schedule_wake();
     return false;
   }
   // Decidable now: a hit or a merge with a known fill completes in the return path; blocked,

@@ -110,6 +110,11 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
     }
     return (this->*read_cycle_)(trans, tag, t, answer_cycle);
   }
+  // read_cycle() of a read the caller knows to be valid: a READ of bytes within one line.
+  bool read_line_cycle(tlm::tlm_generic_payload& trans, const FetchTag* tag, uint64_t t,
+                       uint64_t* answer_cycle) {
+    return (this->*read_cycle_)(trans, tag, t, answer_cycle);
+  }
   uint64_t clock_period_ps() const { return period_ps_; }
   // A fill by direct call (the MSHRs' reads name the cache as reply_to when they go by direct
   // call).
@@ -144,6 +149,10 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
   // downstream's next decision; our future reads are sent after the lookups still to decide.
   uint64_t decidable_ps() const {
     return std::max(now_ps(), downstream_horizon_ ? downstream_horizon_->horizon_ps() : kNever);
+  }
+  // at_ps <= decidable_ps(), the kernel's time asked only if the downstream's horizon is before.
+  bool decidable_at(uint64_t at_ps) const {
+    return !downstream_horizon_ || at_ps <= downstream_horizon_->horizon_ps() || at_ps <= now_ps();
   }
   // A read of one line: else the error response set.
   bool valid_read(tlm::tlm_generic_payload& trans) {

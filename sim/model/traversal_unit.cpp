@@ -32,10 +32,20 @@ TraversalUnit::TraversalUnit(const sc_core::sc_module_name& name, const UnitPara
       image_(image),
       host_(host),
       slots_(p.rays_in_flight),
-      events_(p.rays_in_flight),
-      arrivals_(p.rays_in_flight, /*slot_order=*/true),
+      queue_(p.rays_in_flight),
       step_calendar_(kCalendarCycles / 64, 0),
       lanes_(p) {
+  for (uint32_t i = 0; i < p.rays_in_flight; ++i) {
+    UnitPayload& q = node_payloads_.emplace_back();
+    q.pooled = false;
+    q.tag = new FetchTag;
+    q.tag->stream = Stream::kNode;
+    q.tag->owner = i;
+    q.tag->reply_to = this;
+    q.set_extension(q.tag);
+    init_read(q, 0, p.node_line_bytes);
+    slots_[i].node_payload = &q;
+  }
   node_socket.register_nb_transport_bw(this, &TraversalUnit::nb_transport_bw);
   data_socket.register_nb_transport_bw(this, &TraversalUnit::nb_transport_bw);
   SC_THREAD(run);
@@ -43,7 +53,9 @@ TraversalUnit::TraversalUnit(const sc_core::sc_module_name& name, const UnitPara
 
 void TraversalUnit::set_direct_targets(L1Cache* node, DirectTarget* data) {
   node_direct_ = node;
-  node_same_clock_ = node && node->clock_period_ps() == period_;
+  // On the unit's clock (reads in cycles) with the unit's node lines (every read valid).
+  node_fast_ = node && node->clock_period_ps() == period_ &&
+               node->params().cache.line_bytes == node_line_.divisor();
   data_direct_ = data;
 }
 
@@ -80,24 +92,15 @@ void TraversalUnit::run_batch() {
   uint64_t h = 0, h_cycle = 0;
   horizon_moved_ = true;
   while (active_ > 0) {
-    if (horizon_moved_ || !horizons_report_) {
-      horizon_moved_ = false;
+    if (horizon_moved_) {
+      horizon_moved_ = !horizons_report_;  // asked every time unless every horizon reports
       h = horizon();
       h_cycle = h == MemoryHorizon::kNever ? ~uint64_t{0} : cycle_at_or_after(h);
     }
-    // Arrivals before the events of their cycle; both only before the horizon. Taking an
-    // arrival touches no memory component, so the horizon holds until an event is processed.
-    auto next_event_cycle = [&] { return events_.empty() ? ~uint64_t{0} : events_.top_cycle(); };
-    uint64_t next_event = next_event_cycle();
-    while (!arrivals_.empty()) {
-      uint64_t cycle = arrivals_.top_cycle();
-      if (cycle > next_event || cycle >= h_cycle) break;
-      const uint32_t slot = arrivals_.pop(cycle);
-      last_cycle_ = std::max(last_cycle_, cycle);
-      data_ready(slot, cycle);
-      next_event = next_event_cycle();
-    }
-    if (next_event >= h_cycle) {
+    // Arrivals before the events of their cycle (the queue's order); both only before the
+    // horizon. Taking an arrival touches no memory component: the horizon holds.
+    const uint64_t next = queue_.top_cycle();  // all ones: nothing queued
+    if (next >= h_cycle) {
       // Nothing to do before the memory acts on its own: let the kernel get there.
       if (h == MemoryHorizon::kNever)
         throw std::logic_error("traversal unit: rays wait for memory that has nothing scheduled");
@@ -119,8 +122,13 @@ void TraversalUnit::run_batch() {
       continue;
     }
     uint64_t t;
-    const uint32_t slot = events_.pop(t);
+    bool arrival;
+    const uint32_t slot = queue_.pop(t, arrival);
     last_cycle_ = std::max(last_cycle_, t);
+    if (arrival) {
+      data_ready(slot, t);
+      continue;
+    }
     ++events_processed_;
     process<Decoder>(slots_[slot], slot, t);
     if (vcd_) trace(t);
@@ -178,19 +186,13 @@ void TraversalUnit::finish_ray(uint32_t slot, uint64_t t) {
   start_ray(slot, t);
 }
 
-void TraversalUnit::schedule_step(uint32_t slot, uint64_t t) {
+void TraversalUnit::schedule_step(uint32_t slot, uint64_t t) { book_step(slot, t); }
+
+void TraversalUnit::book_step(uint32_t slot, uint64_t t) {
   constexpr uint64_t kWords = kCalendarCycles / 64;
   // Forget the bookings of cycles that have passed (the events being processed are at or after
   // the last one), a word at a time.
-  const uint64_t now_cycle = last_cycle_;
-  if (now_cycle >= calendar_clear_ + kCalendarCycles) {  // a long idle gap: forget everything
-    std::fill(step_calendar_.begin(), step_calendar_.end(), 0);
-    calendar_clear_ = now_cycle / 64 * 64;
-  }
-  while (calendar_clear_ + 64 <= now_cycle) {
-    step_calendar_[(calendar_clear_ / 64) % kWords] = 0;
-    calendar_clear_ += 64;
-  }
+  if (calendar_clear_ + 64 <= last_cycle_) [[unlikely]] forget_bookings();
   if (t >= calendar_clear_ + kCalendarCycles - 128) {  // beyond the window: book later
     slots_[slot].phase = Phase::kBook;
     push(slot, t);
@@ -217,19 +219,33 @@ void TraversalUnit::schedule_step(uint32_t slot, uint64_t t) {
   push(slot, c);
 }
 
+void TraversalUnit::forget_bookings() {
+  constexpr uint64_t kWords = kCalendarCycles / 64;
+  const uint64_t now_cycle = last_cycle_;
+  if (now_cycle >= calendar_clear_ + kCalendarCycles) {  // a long idle gap: forget everything
+    std::fill(step_calendar_.begin(), step_calendar_.end(), 0);
+    calendar_clear_ = now_cycle / 64 * 64;
+  }
+  while (calendar_clear_ + 64 <= now_cycle) {
+    step_calendar_[(calendar_clear_ / 64) % kWords] = 0;
+    calendar_clear_ += 64;
+  }
+}
+
 void TraversalUnit::data_ready(uint32_t slot, uint64_t ready) {
   Slot& s = slots_[slot];
-  switch (s.phase) {
-    case Phase::kNodeWait: {  // the node is in: the step is decided step_cycles later
-      const uint64_t decided = ready + p_.step_cycles;
-      if (s.kind == StepKind::kInterior) {
-        schedule_step(slot, decided);
-      } else {
-        s.phase = Phase::kLeafBody;
-        push(slot, decided);
-      }
-      return;
+  if (s.phase == Phase::kNodeWait) [[likely]] {
+    // The node is in: the step is decided step_cycles later.
+    const uint64_t decided = ready + p_.step_cycles;
+    if (s.kind == StepKind::kInterior) {
+      book_step(slot, decided);
+    } else {
+      s.phase = Phase::kLeafBody;
+      push(slot, decided);
     }
+    return;
+  }
+  switch (s.phase) {
     case Phase::kListWait:
       s.phase = Phase::kTriangles;
       push(slot, ready);
@@ -305,26 +321,23 @@ void TraversalUnit::issue_node(uint32_t slot, uint64_t t) {
   const Fetch& f = s.fetches[0];
   const uint64_t line = node_line_.divisor();
   const uint64_t line_start = node_line_.div(f.addr) * line;
-  if (!node_same_clock_ || f.stream != Stream::kNode || f.bytes == 0 ||
-      f.addr + f.bytes > line_start + line || free_payloads_.empty()) [[unlikely]] {
+  if (!node_fast_ || f.stream != Stream::kNode || f.bytes == 0 ||
+      f.addr + f.bytes > line_start + line) [[unlikely]] {
     issue(slot, 0, 1, t);
     return;
   }
-  // What issue() does for one line read by direct call, on the unit's clock in its cycles.
-  UnitPayload* p = free_payloads_.back();
-  free_payloads_.pop_back();
-  FetchTag* tag = p->tag;
-  tag->stream = Stream::kNode;
-  tag->owner = slot;
-  tag->reply_to = this;
-  init_read(*p, line_start, static_cast<uint32_t>(line));
+  // What issue() does for one line read by direct call, on the unit's clock in its cycles,
+  // with the slot's own payload.
+  UnitPayload* p = s.node_payload;
+  p->set_address(line_start);
+  p->set_response_status(tlm::TLM_INCOMPLETE_RESPONSE);
   s.pending = 1;
   s.ready = t;
   s.issuing = true;
   uint64_t done = 0;
-  if (node_direct_->read_cycle(*p, tag, t, &done)) completed(s, p, done);
+  if (node_direct_->read_line_cycle(*p, p->tag, t, &done)) completed(s, p, done);
   s.issuing = false;
-  if (s.pending == 0) arrivals_.push(s.ready, slot);
+  if (s.pending == 0) queue_.push_arrival(s.ready, slot);
 }
 
 void TraversalUnit::issue(uint32_t slot, size_t first, size_t last, uint64_t t) {
@@ -377,7 +390,7 @@ void TraversalUnit::issue(uint32_t slot, size_t first, size_t last, uint64_t t) 
     }
   }
   s.issuing = false;
-  if (s.pending == 0) arrivals_.push(s.ready, slot);
+  if (s.pending == 0) queue_.push_arrival(s.ready, slot);
 }
 
 tlm::tlm_sync_enum TraversalUnit::nb_transport_bw(tlm::tlm_generic_payload& trans,
@@ -396,10 +409,10 @@ void TraversalUnit::arrived(tlm::tlm_generic_payload& trans, uint64_t at_ps) {
   check_response(trans);
   UnitPayload& p = static_cast<UnitPayload&>(trans);  // ours: sent by issue()
   const uint32_t slot = p.tag->owner;
-  free_payloads_.push_back(&p);
+  if (p.pooled) free_payloads_.push_back(&p);
   Slot& s = slots_[slot];
   s.ready = std::max(s.ready, cycle_at_or_after(at_ps));
-  if (--s.pending == 0 && !s.issuing) arrivals_.push(s.ready, slot);
+  if (--s.pending == 0 && !s.issuing) queue_.push_arrival(s.ready, slot);
 }
 
 void TraversalUnit::write_stats(Stats& stats) const {

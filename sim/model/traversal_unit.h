@@ -38,7 +38,7 @@
 #include "layout/memory_image.h"
 #include "mem/fast_divider.h"
 #include "mem/mem_protocol.h"
-#include "model/event_wheel.h"
+#include "model/unit_queue.h"
 #include "model/host_interface.h"
 #include "model/isect_lanes.h"
 #include "model/unit_params.h"
@@ -96,6 +96,7 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
   using Fetch = RecordedFetch;
   // The fields every event touches first, in one cache line; the traversal state (its stack
   // is a kilobyte) after them.
+  struct UnitPayload;
   struct alignas(64) Slot {
     bool active = false;
     bool issuing = false;
@@ -104,6 +105,7 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
     uint32_t ray = 0;
     uint32_t pending = 0;        // line requests outstanding
     uint64_t ready = 0;          // latest data cycle among them
+    UnitPayload* node_payload = nullptr;  // its own in node_payloads_ (no deque lookup)
     FetchList fetches;           // of the current step, in issue order
     TraversalState st;
   };
@@ -113,20 +115,25 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
   void run_batch();
   // Times inside the unit are cycles of its clock; picoseconds only at the sockets.
   template <class Decoder>
-  void process(Slot& s, uint32_t index, uint64_t cycle);
+  [[gnu::always_inline]] inline void process(Slot& s, uint32_t index, uint64_t cycle);
   void start_ray(uint32_t slot, uint64_t cycle);
   void finish_ray(uint32_t slot, uint64_t cycle);
   // Books the step pipeline from `cycle` on and schedules the slot's next step there.
+  // schedule_step: a call; book_step: inline (an arrival's, in the hot loop).
   void schedule_step(uint32_t slot, uint64_t cycle);
-  // All data the slot waited for is there at `cycle`.
-  void data_ready(uint32_t slot, uint64_t cycle);
-  [[gnu::always_inline]] void push(uint32_t slot, uint64_t cycle) { events_.push(cycle, slot); }
+  [[gnu::always_inline]] inline void book_step(uint32_t slot, uint64_t cycle);
+  // Clears the bookings of the words of cycles that have passed (the events being processed are
+  // at or after last_cycle_).
+  [[gnu::cold]] void forget_bookings();
+  // All data the slot waited for is there at `cycle` (inline: one per arrival, in the hot loop).
+  [[gnu::always_inline]] inline void data_ready(uint32_t slot, uint64_t cycle);
+  [[gnu::always_inline]] void push(uint32_t slot, uint64_t cycle) { queue_.push_event(cycle, slot); }
   // Issues fetches [first, last) of the slot's step at `cycle`; schedules the slot when all
   // are in.
   void issue(uint32_t slot, size_t first, size_t last, uint64_t cycle);
   // issue(slot, 0, 1, cycle) for a step's node fetch, with a fast path for the common case: one
   // line, read from the C++ node L1 by direct call.
-  void issue_node(uint32_t slot, uint64_t cycle);
+  [[gnu::always_inline]] inline void issue_node(uint32_t slot, uint64_t cycle);
   tlm::tlm_sync_enum nb_transport_bw(tlm::tlm_generic_payload& trans, tlm::tlm_phase& phase,
                                      sc_core::sc_time& delay);
   void arrived(tlm::tlm_generic_payload& trans, uint64_t at_ps);
@@ -151,12 +158,15 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
   bool horizons_report_ = true;
   bool horizon_moved_ = true;
   L1Cache* node_direct_ = nullptr;
-  bool node_same_clock_ = false;  // node_direct_ is set and on the unit's clock: reads in cycles
+  // node_direct_ is set, on the unit's clock (reads in cycles) and its lines are the unit's
+  // node lines (every one-line read valid): issue_node()'s fast path.
+  bool node_fast_ = false;
   DirectTarget* data_direct_ = nullptr;
   std::vector<CallDriven*> due_;  // scratch: components acted for at one horizon
   std::vector<Slot> slots_;
-  EventWheel events_;
-  EventWheel arrivals_;  // rays whose data is all there, by data cycle, then slot
+  // Events, and rays whose data is all there (arrivals: by data cycle, then slot, before the
+  // events of their cycle).
+  UnitQueue queue_;
   uint32_t active_ = 0;
   // The step pipeline takes one step per cycle. Bookings as a bit per cycle over a window of
   // kCalendarCycles from the current cycle (far more than any memory latency); bits behind the
@@ -171,14 +181,18 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
   // memory side returns the very payload the unit sent).
   struct UnitPayload : tlm::tlm_generic_payload {
     FetchTag* tag = nullptr;  // owned by the payload as its extension
+    bool pooled = true;       // in free_payloads_ when not in flight; else a slot's own
   };
   std::deque<UnitPayload> payloads_;
   std::vector<UnitPayload*> free_payloads_;
+  // Per slot, its payload for issue_node()'s one-line node read (a slot has at most one node
+  // read in flight): command, length and tag set once, the address per read.
+  std::deque<UnitPayload> node_payloads_;
   // A read of slot `s` answered within the call that sent it, at cycle `ready`: what arrived()
   // does, its payload free again at once.
   [[gnu::always_inline]] void completed(Slot& s, UnitPayload* p, uint64_t ready) {
     check_response(*p);
-    free_payloads_.push_back(p);
+    if (p->pooled) free_payloads_.push_back(p);
     s.ready = std::max(s.ready, ready);
     --s.pending;
   }

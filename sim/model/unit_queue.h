@@ -1,0 +1,184 @@
+// The traversal unit's one queue of what happens next: arrivals (a ray whose data is all there)
+// and events (a ray's next pipeline action), at most one of either per ray slot, each at a cycle
+// no earlier than the last one taken. It gives them in the order of two EventWheels taken
+// together (the unit's order before they were merged, which its figures keep): by cycle; within
+// a cycle the arrivals first, in slot order, then the events, in push order; within each kind an
+// entry kept in the far heap (pushed kWheelCycles or more ahead of the last one of its kind
+// taken) before the wheel's, far ones by slot.
+// One timing wheel of a bucket per cycle over the next kWheelCycles (per bucket a slot-sorted
+// list of arrivals and a FIFO list of events, threaded through the slots; one bitmap of
+// non-empty buckets), plus a heap per kind for the rare entry further ahead: one scan finds the
+// next cycle of both kinds.
+#pragma once
+#include <algorithm>
+#include <bit>
+#include <cstdint>
+#include <functional>
+#include <queue>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "model/event_wheel.h"
+
+namespace rtusim {
+
+class UnitQueue {
+ public:
+  static constexpr uint64_t kWheelCycles = EventWheel::kWheelCycles;
+  static constexpr uint32_t kNone = ~uint32_t{0};
+  static constexpr uint32_t kSlotBits = EventWheel::kSlotBits;  // far: cycle << 20 | slot
+
+  explicit UnitQueue(uint32_t slots)
+      : link_arrival_(slots, kNone), link_event_(slots, kNone),
+        buckets_(kWheelCycles), nonempty_(kWheelCycles / 64, 0) {}
+
+  bool empty() const { return next_ == kEmpty; }
+
+  // push_*, top_cycle and pop are forced inline: one of each per unit event, in its hot loop.
+  // Schedules slot's arrival at `cycle` (>= the cycle of the last pop).
+  [[gnu::always_inline]] void push_arrival(uint64_t cycle, uint32_t slot) {
+    before_push(cycle);
+    if (cycle >= now_arrival_ + kWheelCycles) {
+      far_arrival_.push(cycle << kSlotBits | slot);
+      return;
+    }
+    const uint64_t b = cycle & (kWheelCycles - 1);
+    Bucket& k = buckets_[b];
+    link_arrival_[slot] = kNone;
+    if (k.arrival_head == kNone) {
+      k.arrival_head = slot;
+      k.arrival_tail = slot;
+      mark(b);
+    } else if (k.arrival_tail < slot) {
+      link_arrival_[k.arrival_tail] = slot;
+      k.arrival_tail = slot;
+    } else if (slot < k.arrival_head) {
+      link_arrival_[slot] = k.arrival_head;
+      k.arrival_head = slot;
+    } else {  // between two entries
+      uint32_t prev = k.arrival_head;
+      while (link_arrival_[prev] < slot) prev = link_arrival_[prev];
+      link_arrival_[slot] = link_arrival_[prev];
+      link_arrival_[prev] = slot;
+    }
+  }
+
+  // Schedules slot's event at `cycle` (>= the cycle of the last pop).
+  [[gnu::always_inline]] void push_event(uint64_t cycle, uint32_t slot) {
+    before_push(cycle);
+    if (cycle >= now_event_ + kWheelCycles) {
+      far_event_.push(cycle << kSlotBits | slot);
+      return;
+    }
+    const uint64_t b = cycle & (kWheelCycles - 1);
+    Bucket& k = buckets_[b];
+    link_event_[slot] = kNone;
+    if (k.event_head == kNone) {
+      k.event_head = slot;
+      mark(b);
+    } else {
+      link_event_[k.event_tail] = slot;
+    }
+    k.event_tail = slot;
+  }
+
+  // Cycle of the next entry; all ones when the queue is empty.
+  [[gnu::always_inline]] uint64_t top_cycle() const { return next_; }
+
+  // Takes the next entry: its slot; `cycle` receives its cycle, `arrival` its kind.
+  [[gnu::always_inline]] uint32_t pop(uint64_t& cycle, bool& arrival) {
+    const uint64_t c = next_;
+    cycle = c;
+    now_ = c;
+    const uint64_t b = c & (kWheelCycles - 1);
+    Bucket& k = buckets_[b];
+    uint32_t slot;
+    if (!far_arrival_.empty() && (far_arrival_.top() >> kSlotBits) == c) [[unlikely]] {
+      slot = take_far(far_arrival_);
+      arrival = true;
+      now_arrival_ = c;
+      next_ = find_next();
+      return slot;
+    }
+    if (k.arrival_head != kNone) {
+      slot = k.arrival_head;
+      k.arrival_head = link_arrival_[slot];
+      arrival = true;
+      now_arrival_ = c;
+    } else {
+      if (!far_event_.empty() && (far_event_.top() >> kSlotBits) == c) [[unlikely]] {
+        slot = take_far(far_event_);
+        arrival = false;
+        now_event_ = c;
+        next_ = find_next();
+        return slot;
+      }
+      slot = k.event_head;
+      k.event_head = link_event_[slot];
+      arrival = false;
+      now_event_ = c;
+    }
+    if (k.arrival_head == kNone && k.event_head == kNone) {
+      nonempty_[b / 64] &= ~(uint64_t{1} << (b % 64));
+      next_ = find_next();  // a far entry of this cycle, if any, included
+    } else {
+      next_ = c;
+    }
+    return slot;
+  }
+
+ private:
+  struct Bucket {
+    uint32_t arrival_head = kNone, arrival_tail = kNone;
+    uint32_t event_head = kNone, event_tail = kNone;
+  };
+  using FarHeap = std::priority_queue<uint64_t, std::vector<uint64_t>, std::greater<uint64_t>>;
+
+  [[gnu::always_inline]] void before_push(uint64_t cycle) {
+    // Every wheel entry must lie in [now_, now_ + kWheelCycles) for the buckets to order them.
+    if (cycle < now_) [[unlikely]] behind(cycle);
+    next_ = std::min(next_, cycle);
+  }
+  [[noreturn, gnu::cold]] void behind(uint64_t cycle) const {
+    throw std::logic_error("traversal unit: an entry at cycle " + std::to_string(cycle) +
+                           " behind the last one taken, " + std::to_string(now_));
+  }
+  [[gnu::always_inline]] void mark(uint64_t b) { nonempty_[b / 64] |= uint64_t{1} << (b % 64); }
+  static uint32_t take_far(FarHeap& far) {
+    const uint64_t key = far.top();
+    far.pop();
+    return static_cast<uint32_t>(key & ((uint64_t{1} << kSlotBits) - 1));
+  }
+  // The cycle of the next entry, the wheel's or a far one (all ones: none).
+  uint64_t find_next() const {
+    uint64_t far = kEmpty;
+    if (!far_arrival_.empty()) far = far_arrival_.top() >> kSlotBits;
+    if (!far_event_.empty()) far = std::min(far, far_event_.top() >> kSlotBits);
+    return std::min(next_wheel_cycle(), far);
+  }
+  // First non-empty bucket from now_, as a cycle (all wheel entries are in [now_, now_ + W):
+  // each kind's last cycle taken is at or before now_).
+  uint64_t next_wheel_cycle() const {
+    constexpr uint64_t kWords = kWheelCycles / 64;
+    uint64_t c = now_;
+    for (uint64_t i = 0; i <= kWords; ++i) {
+      const uint64_t b = c & (kWheelCycles - 1);
+      const uint64_t bits = nonempty_[b / 64] & (~uint64_t{0} << (b % 64));
+      if (bits) return c - (b % 64) + static_cast<uint64_t>(std::countr_zero(bits));
+      c += 64 - (b % 64);
+    }
+    return ~uint64_t{0};
+  }
+
+  std::vector<uint32_t> link_arrival_, link_event_;  // per slot: the next slot in its bucket
+  std::vector<Bucket> buckets_;
+  std::vector<uint64_t> nonempty_;
+  FarHeap far_arrival_, far_event_;
+  static constexpr uint64_t kEmpty = ~uint64_t{0};
+  uint64_t now_ = 0;                             // cycle of the last entry taken
+  uint64_t now_arrival_ = 0, now_event_ = 0;     // of the last of each kind taken
+  uint64_t next_ = kEmpty;  // cycle of the next entry, kept at every push and pop
+};
+
+}  // namespace rtusim
