@@ -11,6 +11,17 @@
 
 namespace rtusim {
 
+namespace {
+
+// The event queue for `slots` ray slots: the cheapest that holds them.
+std::variant<SlotEventWheel<1>, SlotEventWheel<2>, SlotEventTree> make_events(uint32_t slots) {
+  if (slots <= SlotEventWheel<1>::kMaxSlots) return SlotEventWheel<1>(slots);
+  if (slots <= SlotEventWheel<2>::kMaxSlots) return SlotEventWheel<2>(slots);
+  return SlotEventTree(slots);
+}
+
+}  // namespace
+
 TimedInterleaver::TimedInterleaver(const MemoryImage& image, const CycleParams& timing,
                                    int rays_in_flight)
     : image_(image),
@@ -21,7 +32,7 @@ TimedInterleaver::TimedInterleaver(const MemoryImage& image, const CycleParams& 
       dram_(make_dram_backend(timing.dram)),
       fr_fcfs_(dynamic_cast<FrFcfsDram*>(dram_.get())),
       slots_(static_cast<size_t>(rays_in_flight)),
-      events_(static_cast<uint32_t>(rays_in_flight)),
+      events_(make_events(static_cast<uint32_t>(rays_in_flight))),
       lanes_(timing.unit) {
   if (period_ps_ == 0) throw std::logic_error("timed interleaver: clock period not derived");
   auto l1_timing = [](L1Timing& t, const L1Params& p) {
@@ -145,7 +156,9 @@ void TimedInterleaver::trace(std::span<const RayRecord> rays, std::span<Hit> hit
 
 void TimedInterleaver::time(const RayStepLog& log, bool last, FetchCache& caches,
                             const Charge& charge) {
-  caches.with_inlined_node_l1([&](auto& sink) { run(log, last, sink, caches, charge); });
+  caches.with_inlined_node_l1([&](auto& sink) {
+    std::visit([&](auto& events) { run(log, last, sink, events, caches, charge); }, events_);
+  });
   detach_from_log();
 }
 
@@ -159,9 +172,9 @@ void TimedInterleaver::detach_from_log() {
   }
 }
 
-template <class Sink>
-void TimedInterleaver::run(const RayStepLog& log, bool last, Sink& sink, FetchCache& caches,
-                           const Charge& charge) {
+template <class Sink, class Events>
+void TimedInterleaver::run(const RayStepLog& log, bool last, Sink& sink, Events& events,
+                           FetchCache& caches, const Charge& charge) {
   size_t next = 0;
   // Starts the log's next ray that takes a step in `slot` at cycle t; false when the log has
   // none left and the batch goes on in the next log.
@@ -177,10 +190,10 @@ void TimedInterleaver::run(const RayStepLog& log, bool last, Sink& sink, FetchCa
       s.pixel = pixel;
       s.phase = Phase::kStep;
       s.dram_bytes = 0;
-      events_.set(slot, t);
+      events.set(slot, t);
       return true;
     }
-    events_.clear(slot);
+    events.clear(slot);
     return last;
   };
   // The ray in `slot` ends at cycle t: false when its slot waits for the next log.
@@ -199,9 +212,9 @@ void TimedInterleaver::run(const RayStepLog& log, bool last, Sink& sink, FetchCa
     if (!start(waiting_, waiting_cycle_)) return;
     waiting_ = kNoSlot;
   }
-  while (!events_.empty()) {
-    uint64_t t;
-    const uint32_t slot = events_.take(t);
+  uint32_t slot;
+  uint64_t t;
+  while (events.take(slot, t)) {
     Slot& s = slots_[slot];
     if (s.phase == Phase::kStep) [[likely]] {
       const uint64_t c = std::max(t, step_free_);  // the step pipeline: one step a cycle
@@ -213,7 +226,7 @@ void TimedInterleaver::run(const RayStepLog& log, bool last, Sink& sink, FetchCa
       const RayStepLog::Fetch node = RayStepLog::next(s.next);
       const uint64_t decided = send_node(s, node, c, sink, caches) + unit_.step_cycles;
       if (node.kind == RayStepLog::Kind::kLeaf) s.phase = Phase::kLeafBody;
-      events_.set(slot, decided);
+      events.set(slot, decided);
       continue;
     }
     uint64_t ready;
@@ -224,7 +237,7 @@ void TimedInterleaver::run(const RayStepLog& log, bool last, Sink& sink, FetchCa
         if (s.next != s.end && RayStepLog::kind(*s.next) == RayStepLog::Kind::kList) {
           ready = send(s, RayStepLog::next(s.next), t, sink, caches);
           s.phase = Phase::kTriangles;
-          events_.set(slot, ready);
+          events.set(slot, ready);
           break;
         }
         [[fallthrough]];
@@ -238,7 +251,7 @@ void TimedInterleaver::run(const RayStepLog& log, bool last, Sink& sink, FetchCa
         }
         if (s.tests > 0) {
           s.phase = Phase::kIsect;
-          events_.set(slot, ready);
+          events.set(slot, ready);
           break;
         }
         [[fallthrough]];  // an empty leaf
@@ -248,7 +261,7 @@ void TimedInterleaver::run(const RayStepLog& log, bool last, Sink& sink, FetchCa
           if (!finish(slot, done)) return;
         } else {
           s.phase = Phase::kStep;
-          events_.set(slot, done);
+          events.set(slot, done);
         }
         break;
       }
