@@ -59,20 +59,31 @@ class FetchCache {
     if (bytes == 0) return 0;
     if (s == Stream::kNode) return count(c, node_l1_, addr, bytes);
     if (data_cache_) return count(c, *data_cache_, addr, bytes);
-    const uint64_t bursts = dram_bursts(addr, bytes);
-    c.accesses += bursts;
-    c.misses += bursts;
-    c.dram_bytes += bursts * kDramBurstBytes;
-    return bursts * kDramBurstBytes;
+    return count_to_dram(c, addr, bytes);
+  }
+  // fetch() of `bytes` (> 0) on a list or triangle stream when there is no data cache
+  // (data_cache() is nullptr): straight to DRAM, in its bursts.
+  uint64_t fetch_to_dram(Stream s, uint64_t addr, uint32_t bytes) {
+    StreamCounters& c = counters_[static_cast<int>(s)];
+    ++c.fetches;
+    return count_to_dram(c, addr, bytes);
   }
 
   // Calls f(sink) with a sink equivalent to this FetchCache whose node stream goes to the
   // concrete node-L1 type, so a traversal loop over `sink` inlines the L1 lookup: the policy is
-  // dispatched once per call instead of once per fetch.
-  template <class F>
+  // dispatched once per call instead of once per fetch. With kFixedWays (> 0) and a node L1 of
+  // that many ways, the sink's fetch_node_line searches them with a fixed trip count.
+  template <uint32_t kFixedWays = 0, class F>
   void with_inlined_node_l1(F&& f) {
     node_l1_.visit([&](auto& l1) {
-      InlinedSink<std::remove_reference_t<decltype(l1)>> sink{*this, l1};
+      using Concrete = std::remove_reference_t<decltype(l1)>;
+      if constexpr (kFixedWays > 0) {
+        if (l1.ways() == kFixedWays) {
+          InlinedSink<Concrete, kFixedWays> sink{*this, l1};
+          return f(sink);
+        }
+      }
+      InlinedSink<Concrete> sink{*this, l1};
       f(sink);
     });
   }
@@ -95,7 +106,7 @@ class FetchCache {
   const Counters& counters() const { return counters_; }
 
  private:
-  template <class Concrete>
+  template <class Concrete, uint32_t kWays = 0>  // kWays: the node L1's ways when fixed
   struct InlinedSink {
     FetchCache& caches;
     Concrete& node_l1;
@@ -105,13 +116,21 @@ class FetchCache {
       ++c.fetches;
       return bytes != 0 ? count_in(c, node_l1, addr, bytes) : 0;
     }
+    uint64_t fetch_to_dram(Stream s, uint64_t addr, uint32_t bytes) {
+      return caches.fetch_to_dram(s, addr, bytes);
+    }
     // fetch(Stream::kNode, addr, bytes) of a fetch whose bytes (> 0) lie in one line of the
     // node L1, with one line access: 0 on a hit, else the line's bytes.
     uint64_t fetch_node_line(uint64_t addr) {
       StreamCounters& c = caches.counters_[static_cast<int>(Stream::kNode)];
       ++c.fetches;
       ++c.accesses;
-      if (node_l1.access(addr)) {
+      bool hit;
+      if constexpr (kWays > 0)
+        hit = node_l1.template access_ways<kWays>(addr);
+      else
+        hit = node_l1.access(addr);
+      if (hit) {
         ++c.hits;
         return 0;
       }
@@ -120,6 +139,15 @@ class FetchCache {
       return node_l1.params().line_bytes;
     }
   };
+
+  // Counts one fetch of `bytes` (> 0) at `addr` read straight from DRAM; returns its DRAM bytes.
+  static uint64_t count_to_dram(StreamCounters& c, uint64_t addr, uint32_t bytes) {
+    const uint64_t bursts = dram_bursts(addr, bytes);
+    c.accesses += bursts;
+    c.misses += bursts;
+    c.dram_bytes += bursts * kDramBurstBytes;
+    return bursts * kDramBurstBytes;
+  }
 
   // Counts one fetch of `bytes` at `addr` through a concrete cache; returns its DRAM bytes.
   template <class Concrete>

@@ -2,6 +2,7 @@
 #include "tier/timed_interleaver.h"
 
 #include <algorithm>
+#include <bit>
 #include <stdexcept>
 
 #include "layout/layout_dispatch.h"
@@ -29,6 +30,7 @@ TimedInterleaver::TimedInterleaver(const MemoryImage& image, const CycleParams& 
       period_ps_(timing.unit.clock_period_ps),
       cycles_(period_ps_ ? period_ps_ : 1),
       data_line_(timing.unit.data_line_bytes),
+      node_line_shift_(std::countr_zero(timing.node_l1.cache.line_bytes)),
       dram_(make_dram_backend(timing.dram)),
       fr_fcfs_(dynamic_cast<FrFcfsDram*>(dram_.get())),
       slots_(static_cast<size_t>(rays_in_flight)),
@@ -96,7 +98,7 @@ uint64_t TimedInterleaver::send(Slot& slot, const RayStepLog::Fetch& f, uint64_t
   const uint64_t first = size.div(f.addr), last = size.div(f.addr + f.bytes - 1);
   uint64_t ready = t;
   if (!l1) {  // straight to DRAM: one request per line touched, as the unit sends them
-    slot.dram_bytes += sink.fetch(stream, f.addr, f.bytes);
+    slot.dram_bytes += sink.fetch_to_dram(stream, f.addr, f.bytes);
     for (uint64_t line = first; line <= last; ++line)
       ready = std::max(ready, dram_read(line * line_bytes, static_cast<uint32_t>(line_bytes),
                                         stream, t));
@@ -117,9 +119,8 @@ uint64_t TimedInterleaver::send(Slot& slot, const RayStepLog::Fetch& f, uint64_t
 template <class Sink>
 uint64_t TimedInterleaver::send_node(Slot& slot, const RayStepLog::Fetch& f, uint64_t t,
                                      Sink& sink, const FetchCache& caches) {
-  const FastDivider& size = node_l1_.line_size;
-  const uint64_t line = size.div(f.addr);
-  if (f.bytes == 0 || size.div(f.addr + f.bytes - 1) != line) [[unlikely]]
+  const uint64_t line = f.addr >> node_line_shift_;
+  if (f.bytes == 0 || (f.addr + f.bytes - 1) >> node_line_shift_ != line) [[unlikely]]
     return send(slot, f, t, sink, caches);
   // One line: it was in the tags when it caused no DRAM bytes.
   const uint64_t bytes = sink.fetch_node_line(f.addr);
@@ -156,7 +157,8 @@ void TimedInterleaver::trace(std::span<const RayRecord> rays, std::span<Hit> hit
 
 void TimedInterleaver::time(const RayStepLog& log, bool last, FetchCache& caches,
                             const Charge& charge) {
-  caches.with_inlined_node_l1([&](auto& sink) {
+  // The node L1's way search unrolled for its default associativity.
+  caches.with_inlined_node_l1<CacheParams{}.assoc>([&](auto& sink) {
     std::visit([&](auto& events) { run(log, last, sink, events, caches, charge); }, events_);
   });
   detach_from_log();

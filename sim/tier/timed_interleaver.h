@@ -140,6 +140,7 @@ class TimedInterleaver {
   uint64_t period_ps_;
   FastDivider cycles_;     // ps to cycles: div_up(ps) is the first cycle boundary at or after
   FastDivider data_line_;  // lists and triangles straight to DRAM: its bursts
+  int node_line_shift_;    // log2 of the node L1's line bytes (a power of two)
   L1Timing node_l1_;
   std::unique_ptr<L1Timing> data_cache_;  // nullptr: lists and triangles straight to DRAM
   std::unique_ptr<DramBackend> dram_;
