@@ -57,15 +57,6 @@ class BasicSetAssocCache {
   // One access to the line holding byte `addr`: true on a hit. Updates the state.
   bool access(uint64_t addr) { return access_line(addr >> offset_bits_); }
 
-  // access() of a cache with kWays ways (== ways()): the way search of a fixed trip count.
-  template <uint32_t kWays>
-  bool access_ways(uint64_t addr) {
-    ++accesses_;
-    if (lookup_fill<kWays>(addr >> offset_bits_)) return true;
-    ++misses_;
-    return false;
-  }
-
   // Accesses every line that bytes [addr, addr + bytes) touch, in address order, each counted as
   // one access (a 36-byte triangle across a line boundary is two). Returns the lines missed.
   uint32_t access_range(uint64_t addr, uint32_t bytes) {
@@ -128,24 +119,21 @@ class BasicSetAssocCache {
     return false;
   }
 
-  // Looks `line` up; on a miss fills it. Touches no counter. kWays: the ways when fixed at
-  // compile time (== ways_), else 0.
-  template <uint32_t kWays = 0>
+  // Looks `line` up; on a miss fills it. Touches no counter.
   bool lookup_fill(uint64_t line) {
-    const uint32_t ways = kWays ? kWays : ways_;
     const uint32_t set = static_cast<uint32_t>(line & set_mask_);
     const uint64_t tag = line >> index_bits_;
-    uint64_t* t = &tags_[uint64_t{set} * ways];
+    uint64_t* t = &tags_[uint64_t{set} * ways_];
     // Search every way without an early exit: a fixed trip count, so the only unpredictable
     // branch is hit versus miss.
-    uint32_t hit_way = ways;
-    for (uint32_t w = 0; w < ways; ++w) hit_way = t[w] == tag ? w : hit_way;
-    if (hit_way != ways) {
+    uint32_t hit_way = ways_;
+    for (uint32_t w = 0; w < ways_; ++w) hit_way = t[w] == tag ? w : hit_way;
+    if (hit_way != ways_) {
       policy_.touch(set, hit_way);
       return true;
     }
     // Invalid ways first, lowest first (no invalidation: a set fills in way order).
-    const uint32_t way = filled_[set] < ways ? filled_[set]++ : policy_.victim(set);
+    const uint32_t way = filled_[set] < ways_ ? filled_[set]++ : policy_.victim(set);
     t[way] = tag;
     policy_.fill(set, way);
     return false;

@@ -71,19 +71,11 @@ class FetchCache {
 
   // Calls f(sink) with a sink equivalent to this FetchCache whose node stream goes to the
   // concrete node-L1 type, so a traversal loop over `sink` inlines the L1 lookup: the policy is
-  // dispatched once per call instead of once per fetch. With kFixedWays (> 0) and a node L1 of
-  // that many ways, the sink's fetch_node_line searches them with a fixed trip count.
-  template <uint32_t kFixedWays = 0, class F>
+  // dispatched once per call instead of once per fetch.
+  template <class F>
   void with_inlined_node_l1(F&& f) {
     node_l1_.visit([&](auto& l1) {
-      using Concrete = std::remove_reference_t<decltype(l1)>;
-      if constexpr (kFixedWays > 0) {
-        if (l1.ways() == kFixedWays) {
-          InlinedSink<Concrete, kFixedWays> sink{*this, l1};
-          return f(sink);
-        }
-      }
-      InlinedSink<Concrete> sink{*this, l1};
+      InlinedSink<std::remove_reference_t<decltype(l1)>> sink{*this, l1};
       f(sink);
     });
   }
@@ -106,7 +98,7 @@ class FetchCache {
   const Counters& counters() const { return counters_; }
 
  private:
-  template <class Concrete, uint32_t kWays = 0>  // kWays: the node L1's ways when fixed
+  template <class Concrete>
   struct InlinedSink {
     FetchCache& caches;
     Concrete& node_l1;
@@ -125,12 +117,7 @@ class FetchCache {
       StreamCounters& c = caches.counters_[static_cast<int>(Stream::kNode)];
       ++c.fetches;
       ++c.accesses;
-      bool hit;
-      if constexpr (kWays > 0)
-        hit = node_l1.template access_ways<kWays>(addr);
-      else
-        hit = node_l1.access(addr);
-      if (hit) {
+      if (node_l1.access(addr)) {
         ++c.hits;
         return 0;
       }

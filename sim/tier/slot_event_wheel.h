@@ -62,7 +62,8 @@ class SlotEventWheel {
     bool bucket_empty = m[i] == 0;
     if constexpr (kWords > 1)
       for (int j = 0; j < kWords; ++j) bucket_empty &= m[j] == 0;
-    if (bucket_empty) nonempty_[w] = word & ~(uint64_t{1} << (b % 64));
+    // Without a branch: whether a bucket holds one slot or more is not predictable.
+    nonempty_[w] = word & ~(uint64_t{bucket_empty} << (b % 64));
     cycle = now_ = wheel;
     return true;
   }

@@ -157,8 +157,7 @@ void TimedInterleaver::trace(std::span<const RayRecord> rays, std::span<Hit> hit
 
 void TimedInterleaver::time(const RayStepLog& log, bool last, FetchCache& caches,
                             const Charge& charge) {
-  // The node L1's way search unrolled for its default associativity.
-  caches.with_inlined_node_l1<CacheParams{}.assoc>([&](auto& sink) {
+  caches.with_inlined_node_l1([&](auto& sink) {
     std::visit([&](auto& events) { run(log, last, sink, events, caches, charge); }, events_);
   });
   detach_from_log();
