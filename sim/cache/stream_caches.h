@@ -59,11 +59,14 @@ class FetchCache {
     if (bytes == 0) return 0;
     if (s == Stream::kNode) return count(c, node_l1_, addr, bytes);
     if (data_cache_) return count(c, *data_cache_, addr, bytes);
-    const uint64_t bursts = dram_bursts(addr, bytes);
-    c.accesses += bursts;
-    c.misses += bursts;
-    c.dram_bytes += bursts * kDramBurstBytes;
-    return bursts * kDramBurstBytes;
+    return count_to_dram(c, addr, bytes);
+  }
+  // fetch() of `bytes` (> 0) on a list or triangle stream when there is no data cache
+  // (data_cache() is nullptr): straight to DRAM, in its bursts.
+  uint64_t fetch_to_dram(Stream s, uint64_t addr, uint32_t bytes) {
+    StreamCounters& c = counters_[static_cast<int>(s)];
+    ++c.fetches;
+    return count_to_dram(c, addr, bytes);
   }
 
   // Calls f(sink) with a sink equivalent to this FetchCache whose node stream goes to the
@@ -105,6 +108,9 @@ class FetchCache {
       ++c.fetches;
       return bytes != 0 ? count_in(c, node_l1, addr, bytes) : 0;
     }
+    uint64_t fetch_to_dram(Stream s, uint64_t addr, uint32_t bytes) {
+      return caches.fetch_to_dram(s, addr, bytes);
+    }
     // fetch(Stream::kNode, addr, bytes) of a fetch whose bytes (> 0) lie in one line of the
     // node L1, with one line access: 0 on a hit, else the line's bytes.
     uint64_t fetch_node_line(uint64_t addr) {
@@ -120,6 +126,15 @@ class FetchCache {
       return node_l1.params().line_bytes;
     }
   };
+
+  // Counts one fetch of `bytes` (> 0) at `addr` read straight from DRAM; returns its DRAM bytes.
+  static uint64_t count_to_dram(StreamCounters& c, uint64_t addr, uint32_t bytes) {
+    const uint64_t bursts = dram_bursts(addr, bytes);
+    c.accesses += bursts;
+    c.misses += bursts;
+    c.dram_bytes += bursts * kDramBurstBytes;
+    return bursts * kDramBurstBytes;
+  }
 
   // Counts one fetch of `bytes` at `addr` through a concrete cache; returns its DRAM bytes.
   template <class Concrete>

@@ -36,6 +36,13 @@ class SlotEventTree {
     return static_cast<uint32_t>(key_[1] & kSlotMask);
   }
 
+  // take() when the tree is not empty: false when it is.
+  bool take(uint32_t& slot, uint64_t& cycle) {
+    if (empty()) return false;
+    slot = take(cycle);
+    return true;
+  }
+
   // Schedules `slot` at `cycle` (no earlier than the last event taken), replacing its event.
   [[gnu::always_inline]] void set(uint32_t slot, uint64_t cycle) {
     if (cycle >> (63 - kSlotBits)) [[unlikely]]

@@ -2,6 +2,7 @@
 #include "tier/timed_interleaver.h"
 
 #include <algorithm>
+#include <bit>
 #include <stdexcept>
 
 #include "layout/layout_dispatch.h"
@@ -11,6 +12,17 @@
 
 namespace rtusim {
 
+namespace {
+
+// The event queue for `slots` ray slots: the cheapest that holds them.
+std::variant<SlotEventWheel<1>, SlotEventWheel<2>, SlotEventTree> make_events(uint32_t slots) {
+  if (slots <= SlotEventWheel<1>::kMaxSlots) return SlotEventWheel<1>(slots);
+  if (slots <= SlotEventWheel<2>::kMaxSlots) return SlotEventWheel<2>(slots);
+  return SlotEventTree(slots);
+}
+
+}  // namespace
+
 TimedInterleaver::TimedInterleaver(const MemoryImage& image, const CycleParams& timing,
                                    int rays_in_flight)
     : image_(image),
@@ -18,10 +30,11 @@ TimedInterleaver::TimedInterleaver(const MemoryImage& image, const CycleParams& 
       period_ps_(timing.unit.clock_period_ps),
       cycles_(period_ps_ ? period_ps_ : 1),
       data_line_(timing.unit.data_line_bytes),
+      node_line_shift_(std::countr_zero(timing.node_l1.cache.line_bytes)),
       dram_(make_dram_backend(timing.dram)),
       fr_fcfs_(dynamic_cast<FrFcfsDram*>(dram_.get())),
       slots_(static_cast<size_t>(rays_in_flight)),
-      events_(static_cast<uint32_t>(rays_in_flight)),
+      events_(make_events(static_cast<uint32_t>(rays_in_flight))),
       lanes_(timing.unit) {
   if (period_ps_ == 0) throw std::logic_error("timed interleaver: clock period not derived");
   auto l1_timing = [](L1Timing& t, const L1Params& p) {
@@ -85,7 +98,7 @@ uint64_t TimedInterleaver::send(Slot& slot, const RayStepLog::Fetch& f, uint64_t
   const uint64_t first = size.div(f.addr), last = size.div(f.addr + f.bytes - 1);
   uint64_t ready = t;
   if (!l1) {  // straight to DRAM: one request per line touched, as the unit sends them
-    slot.dram_bytes += sink.fetch(stream, f.addr, f.bytes);
+    slot.dram_bytes += sink.fetch_to_dram(stream, f.addr, f.bytes);
     for (uint64_t line = first; line <= last; ++line)
       ready = std::max(ready, dram_read(line * line_bytes, static_cast<uint32_t>(line_bytes),
                                         stream, t));
@@ -106,9 +119,8 @@ uint64_t TimedInterleaver::send(Slot& slot, const RayStepLog::Fetch& f, uint64_t
 template <class Sink>
 uint64_t TimedInterleaver::send_node(Slot& slot, const RayStepLog::Fetch& f, uint64_t t,
                                      Sink& sink, const FetchCache& caches) {
-  const FastDivider& size = node_l1_.line_size;
-  const uint64_t line = size.div(f.addr);
-  if (f.bytes == 0 || size.div(f.addr + f.bytes - 1) != line) [[unlikely]]
+  const uint64_t line = f.addr >> node_line_shift_;
+  if (f.bytes == 0 || (f.addr + f.bytes - 1) >> node_line_shift_ != line) [[unlikely]]
     return send(slot, f, t, sink, caches);
   // One line: it was in the tags when it caused no DRAM bytes.
   const uint64_t bytes = sink.fetch_node_line(f.addr);
@@ -145,7 +157,9 @@ void TimedInterleaver::trace(std::span<const RayRecord> rays, std::span<Hit> hit
 
 void TimedInterleaver::time(const RayStepLog& log, bool last, FetchCache& caches,
                             const Charge& charge) {
-  caches.with_inlined_node_l1([&](auto& sink) { run(log, last, sink, caches, charge); });
+  caches.with_inlined_node_l1([&](auto& sink) {
+    std::visit([&](auto& events) { run(log, last, sink, events, caches, charge); }, events_);
+  });
   detach_from_log();
 }
 
@@ -159,9 +173,9 @@ void TimedInterleaver::detach_from_log() {
   }
 }
 
-template <class Sink>
-void TimedInterleaver::run(const RayStepLog& log, bool last, Sink& sink, FetchCache& caches,
-                           const Charge& charge) {
+template <class Sink, class Events>
+void TimedInterleaver::run(const RayStepLog& log, bool last, Sink& sink, Events& events,
+                           FetchCache& caches, const Charge& charge) {
   size_t next = 0;
   // Starts the log's next ray that takes a step in `slot` at cycle t; false when the log has
   // none left and the batch goes on in the next log.
@@ -177,10 +191,10 @@ void TimedInterleaver::run(const RayStepLog& log, bool last, Sink& sink, FetchCa
       s.pixel = pixel;
       s.phase = Phase::kStep;
       s.dram_bytes = 0;
-      events_.set(slot, t);
+      events.set(slot, t);
       return true;
     }
-    events_.clear(slot);
+    events.clear(slot);
     return last;
   };
   // The ray in `slot` ends at cycle t: false when its slot waits for the next log.
@@ -199,9 +213,9 @@ void TimedInterleaver::run(const RayStepLog& log, bool last, Sink& sink, FetchCa
     if (!start(waiting_, waiting_cycle_)) return;
     waiting_ = kNoSlot;
   }
-  while (!events_.empty()) {
-    uint64_t t;
-    const uint32_t slot = events_.take(t);
+  uint32_t slot;
+  uint64_t t;
+  while (events.take(slot, t)) {
     Slot& s = slots_[slot];
     if (s.phase == Phase::kStep) [[likely]] {
       const uint64_t c = std::max(t, step_free_);  // the step pipeline: one step a cycle
@@ -213,7 +227,7 @@ void TimedInterleaver::run(const RayStepLog& log, bool last, Sink& sink, FetchCa
       const RayStepLog::Fetch node = RayStepLog::next(s.next);
       const uint64_t decided = send_node(s, node, c, sink, caches) + unit_.step_cycles;
       if (node.kind == RayStepLog::Kind::kLeaf) s.phase = Phase::kLeafBody;
-      events_.set(slot, decided);
+      events.set(slot, decided);
       continue;
     }
     uint64_t ready;
@@ -224,7 +238,7 @@ void TimedInterleaver::run(const RayStepLog& log, bool last, Sink& sink, FetchCa
         if (s.next != s.end && RayStepLog::kind(*s.next) == RayStepLog::Kind::kList) {
           ready = send(s, RayStepLog::next(s.next), t, sink, caches);
           s.phase = Phase::kTriangles;
-          events_.set(slot, ready);
+          events.set(slot, ready);
           break;
         }
         [[fallthrough]];
@@ -238,7 +252,7 @@ void TimedInterleaver::run(const RayStepLog& log, bool last, Sink& sink, FetchCa
         }
         if (s.tests > 0) {
           s.phase = Phase::kIsect;
-          events_.set(slot, ready);
+          events.set(slot, ready);
           break;
         }
         [[fallthrough]];  // an empty leaf
@@ -248,7 +262,7 @@ void TimedInterleaver::run(const RayStepLog& log, bool last, Sink& sink, FetchCa
           if (!finish(slot, done)) return;
         } else {
           s.phase = Phase::kStep;
-          events_.set(slot, done);
+          events.set(slot, done);
         }
         break;
       }

@@ -28,6 +28,7 @@
 #include <functional>
 #include <memory>
 #include <span>
+#include <variant>
 #include <vector>
 
 #include "cache/stream_caches.h"
@@ -39,6 +40,7 @@
 #include "model/isect_lanes.h"
 #include "tier/ray_step_log.h"
 #include "tier/slot_event_tree.h"
+#include "tier/slot_event_wheel.h"
 #include "tracer/ray_batch.h"
 
 namespace rtusim {
@@ -93,8 +95,8 @@ class TimedInterleaver {
   // log left off: until a slot needs a ray after the log's last, or, when `last` (the batch's
   // last log), until every ray has ended.
   void time(const RayStepLog& log, bool last, FetchCache& caches, const Charge& charge);
-  template <class Sink>
-  void run(const RayStepLog& log, bool last, Sink& sink, FetchCache& caches,
+  template <class Sink, class Events>
+  void run(const RayStepLog& log, bool last, Sink& sink, Events& events, FetchCache& caches,
            const Charge& charge);
   // Sends fetch `f` of `slot`'s ray at cycle t: to the functional caches through `sink` (their
   // state and counts; its DRAM bytes charged to the ray) and through the timing model; returns
@@ -138,12 +140,14 @@ class TimedInterleaver {
   uint64_t period_ps_;
   FastDivider cycles_;     // ps to cycles: div_up(ps) is the first cycle boundary at or after
   FastDivider data_line_;  // lists and triangles straight to DRAM: its bursts
+  int node_line_shift_;    // log2 of the node L1's line bytes (a power of two)
   L1Timing node_l1_;
   std::unique_ptr<L1Timing> data_cache_;  // nullptr: lists and triangles straight to DRAM
   std::unique_ptr<DramBackend> dram_;
   FrFcfsDram* fr_fcfs_;  // dram_ when it is the default model: its read_now without a virtual call
   std::vector<Slot> slots_;
-  SlotEventTree events_;  // each busy slot's next event, in EventWheel's order
+  // Each busy slot's next event, in EventWheel's order: a wheel up to 128 slots, else the tree.
+  std::variant<SlotEventWheel<1>, SlotEventWheel<2>, SlotEventTree> events_;
   uint64_t step_free_ = 0;           // the step pipeline's next free cycle
   IsectLanes lanes_;
   uint64_t last_cycle_ = 0;          // the last ray's end so far
