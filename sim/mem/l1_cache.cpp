@@ -155,16 +155,21 @@ L1Cache::Outcome L1Cache::lookup_as(Cache& tags, const Request& r, uint64_t c,
   if (c >= busy_until_) {  // none busy (the common case): the first is the lowest free one
     free = 0;
   } else if (n <= 64) {
-    // The MSHRs of busy_mask_ only (the others are free at c); those found free drop out.
-    for (uint64_t left = busy_mask_; left; left &= left - 1) {
+    // The MSHRs of busy_mask_ only (the others are free at c); those found free drop out. In
+    // locals: a store to the mask would make the arrays' next loads wait for it.
+    const uint64_t* const fills = mshr_fill_.data();
+    const uint64_t* const lines = mshr_line_.data();
+    uint64_t busy = busy_mask_;
+    for (uint64_t left = busy; left; left &= left - 1) {
       const size_t i = static_cast<size_t>(std::countr_zero(left));
-      if (c < mshr_fill_[i]) {
-        if (mshr_line_[i] == line) match = i;  // ascending: the last such wins
+      if (c < fills[i]) {
+        if (lines[i] == line) match = i;  // ascending: the last such wins
       } else {
-        busy_mask_ &= ~(uint64_t{1} << i);
+        busy &= ~(uint64_t{1} << i);
       }
     }
-    const uint64_t idle = ~busy_mask_ & (~uint64_t{0} >> (64 - n));
+    busy_mask_ = busy;
+    const uint64_t idle = ~busy & (~uint64_t{0} >> (64 - n));
     if (idle) free = static_cast<size_t>(std::countr_zero(idle));
   } else {
     // 64 MSHRs at a time, as bit masks.
