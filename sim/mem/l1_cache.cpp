@@ -31,7 +31,9 @@ L1Cache::L1Cache(const sc_core::sc_module_name& name, const L1Params& p)
       mshr_fill_(p.mshrs, 0) {
   tags_.visit([this](auto& cache) {
     tag_cache_ = &cache;
-    read_cycle_ = &L1Cache::read_cycle_as<std::remove_reference_t<decltype(cache)>>;
+    using Cache = std::remove_reference_t<decltype(cache)>;
+    read_cycle_ = &L1Cache::read_cycle_as<Cache>;
+    advance_ = &L1Cache::advance_as<Cache>;
   });
   for (size_t i = 0; i < mshrs_.size(); ++i) {
     mshrs_[i].tag = new FetchTag;
@@ -85,11 +87,10 @@ bool L1Cache::read_cycle_as(tlm::tlm_generic_payload& trans, const FetchTag* tag
                             uint64_t* answer_cycle) {
   const uint64_t addr = trans.get_address();
   const uint64_t c = std::max(t, next_lookup_);
-  if (!queue_empty() || !decidable_at(c * period_ps_))
-    return read_general(trans, tag, t, answer_cycle);
-  // Decidable now, nothing queued: what read_general() does in this case, with the tags'
-  // concrete cache.
   Cache& tags = *static_cast<Cache*>(tag_cache_);
+  if (!queue_empty() || !decidable_at(c * period_ps_))
+    return read_general_as(tags, trans, tag, t, answer_cycle);
+  // Decidable now, nothing queued: what read_general_as() does in this case.
   const Request r{&trans, tag, t};
   if (c < busy_until_) return settle(lookup_as(tags, r, c, answer_cycle), r, c);
   // No MSHR busy: no merge, and the first MSHR is the lowest free one (what lookup() does in
@@ -103,10 +104,11 @@ bool L1Cache::read_cycle_as(tlm::tlm_generic_payload& trans, const FetchTag* tag
   return settle(primary_miss(r, 0, addr >> offset_bits_, c, answer_cycle), r, c);
 }
 
-bool L1Cache::read_general(tlm::tlm_generic_payload& trans, const FetchTag* tag, uint64_t t,
-                           uint64_t* answer_cycle) {
+template <class Cache>
+bool L1Cache::read_general_as(Cache& tags, tlm::tlm_generic_payload& trans, const FetchTag* tag,
+                              uint64_t t, uint64_t* answer_cycle) {
   // The downstream may have moved on (else the backlog's front is stuck as advance() left it).
-  if (!queue_empty() && !(stalled_ && decidable_ps() <= stalled_limit_ps_)) advance();
+  if (!queue_empty() && !(stalled_ && decidable_ps() <= stalled_limit_ps_)) advance_as<Cache>();
   const uint64_t c = std::max(t, next_lookup_);
   if (!queue_empty() || c * period_ps_ > decidable_ps()) {
     // Behind a backlog the front, and so the horizon and the wake-up, stay as they are (driven
@@ -119,7 +121,7 @@ bool L1Cache::read_general(tlm::tlm_generic_payload& trans, const FetchTag* tag,
   // Decidable now: a hit or a merge with a known fill completes in the return path; blocked,
   // it cannot go on before the first fill, which is after t: decided later.
   const Request r{&trans, tag, t};
-  return settle(lookup(r, c, answer_cycle), r, c);
+  return settle(lookup_as(tags, r, c, answer_cycle), r, c);
 }
 
 void L1Cache::respond(tlm::tlm_generic_payload& trans, const FetchTag* tag, uint64_t cycle) {
@@ -153,16 +155,21 @@ L1Cache::Outcome L1Cache::lookup_as(Cache& tags, const Request& r, uint64_t c,
   if (c >= busy_until_) {  // none busy (the common case): the first is the lowest free one
     free = 0;
   } else if (n <= 64) {
-    // The MSHRs of busy_mask_ only (the others are free at c); those found free drop out.
-    for (uint64_t left = busy_mask_; left; left &= left - 1) {
+    // The MSHRs of busy_mask_ only (the others are free at c); those found free drop out. In
+    // locals: a store to the mask would make the arrays' next loads wait for it.
+    const uint64_t* const fills = mshr_fill_.data();
+    const uint64_t* const lines = mshr_line_.data();
+    uint64_t busy = busy_mask_;
+    for (uint64_t left = busy; left; left &= left - 1) {
       const size_t i = static_cast<size_t>(std::countr_zero(left));
-      if (c < mshr_fill_[i]) {
-        if (mshr_line_[i] == line) match = i;  // ascending: the last such wins
+      if (c < fills[i]) {
+        if (lines[i] == line) match = i;  // ascending: the last such wins
       } else {
-        busy_mask_ &= ~(uint64_t{1} << i);
+        busy &= ~(uint64_t{1} << i);
       }
     }
-    const uint64_t idle = ~busy_mask_ & (~uint64_t{0} >> (64 - n));
+    busy_mask_ = busy;
+    const uint64_t idle = ~busy & (~uint64_t{0} >> (64 - n));
     if (idle) free = static_cast<size_t>(std::countr_zero(idle));
   } else {
     // 64 MSHRs at a time, as bit masks.
@@ -197,10 +204,6 @@ L1Cache::Outcome L1Cache::lookup_as(Cache& tags, const Request& r, uint64_t c,
     return Outcome::kAnswered;
   }
   return primary_miss(r, free, line, c, answer_cycle);
-}
-
-L1Cache::Outcome L1Cache::lookup(const Request& r, uint64_t c, uint64_t* answer_cycle) {
-  return tags_.visit([&](auto& tags) { return lookup_as(tags, r, c, answer_cycle); });
 }
 
 L1Cache::Outcome L1Cache::primary_miss(const Request& r, size_t index, uint64_t line,
@@ -241,7 +244,9 @@ L1Cache::Outcome L1Cache::primary_miss(const Request& r, size_t index, uint64_t 
   return Outcome::kWaiting;
 }
 
-void L1Cache::advance() {
+template <class Cache>
+void L1Cache::advance_as() {
+  Cache& tags = *static_cast<Cache*>(tag_cache_);
   while (!queue_empty()) {
     Request& r = queue_front();
     const uint64_t limit = decidable_ps();
@@ -253,7 +258,7 @@ void L1Cache::advance() {
       break;
     }
     uint64_t answer = 0;
-    const Outcome o = lookup(r, c, &answer);
+    const Outcome o = lookup_as(tags, r, c, &answer);
     if (o == Outcome::kBlocked) {
       r.blocked_at = c;
       continue;

@@ -143,8 +143,11 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
                                      sc_core::sc_time& delay);
   tlm::tlm_sync_enum nb_transport_bw(tlm::tlm_generic_payload& trans, tlm::tlm_phase& phase,
                                      sc_core::sc_time& delay);
-  // Decides queued lookups, oldest first, while they are decidable; answers them.
-  void advance();
+  // Decides queued lookups, oldest first, while they are decidable; answers them. One indirect
+  // call into advance_as<the tags' cache type>, whose lookups call its access() inline.
+  void advance() { (this->*advance_)(); }
+  template <class Cache>
+  void advance_as();
   // Latest time (ps) up to which every fill is known: our unknown fills complete after the
   // downstream's next decision; our future reads are sent after the lookups still to decide.
   uint64_t decidable_ps() const {
@@ -170,9 +173,11 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
   template <class Cache>
   bool read_cycle_as(tlm::tlm_generic_payload& trans, const FetchTag* tag, uint64_t t,
                      uint64_t* answer_cycle);
-  // read_cycle() of a valid read, for any state of the port and the MSHRs.
-  bool read_general(tlm::tlm_generic_payload& trans, const FetchTag* tag, uint64_t t,
-                    uint64_t* answer_cycle);
+  // read_cycle() of a valid read, for any state of the port and the MSHRs (tags: tags_'s
+  // concrete cache).
+  template <class Cache>
+  bool read_general_as(Cache& tags, tlm::tlm_generic_payload& trans, const FetchTag* tag,
+                       uint64_t t, uint64_t* answer_cycle);
   // The end of a read's lookup at cycle c: answered (true, the response set), waiting for a
   // pending fill, or blocked: queued, decided after the first fill.
   [[gnu::always_inline]] bool settle(Outcome o, const Request& r, uint64_t c) {
@@ -189,11 +194,10 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
     }
     return false;
   }
-  // The lookup of `r` at cycle c; kAnswered sets *answer_cycle. lookup_as: with the tags'
-  // concrete cache `Cache` (its access() inline); lookup: through the variant.
+  // The lookup of `r` at cycle c with the tags' concrete cache `Cache` (its access() inline);
+  // kAnswered sets *answer_cycle.
   template <class Cache>
   Outcome lookup_as(Cache& tags, const Request& r, uint64_t c, uint64_t* answer_cycle);
-  Outcome lookup(const Request& r, uint64_t c, uint64_t* answer_cycle);
   // The rest of a lookup that missed with MSHR `m` free (the line is now in the tags): `m`
   // reads the line downstream.
   Outcome primary_miss(const Request& r, size_t m, uint64_t line, uint64_t c,
@@ -216,6 +220,7 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
   void* tag_cache_ = nullptr;  // tags_'s concrete cache, as read_cycle_ knows its type
   bool (L1Cache::*read_cycle_)(tlm::tlm_generic_payload&, const FetchTag*, uint64_t,
                                uint64_t*) = nullptr;
+  void (L1Cache::*advance_)() = nullptr;  // advance_as<tags_'s concrete cache>
   uint32_t offset_bits_;
   uint64_t line_bytes_;
   uint64_t period_ps_;

@@ -36,6 +36,7 @@ void FrFcfsDram::advance(uint64_t now_ps, std::vector<DramCompletion>& out) {
       auto age = [](const Queued& x) { return std::tie(x.req.arrival_ps, x.req.addr, x.seq); };
       int best = -1;
       bool best_hit = false;
+      const Queued* best_q = nullptr;  // c.queue[best]
       uint64_t later = kNever;  // the earliest time a request not eligible now becomes so
       for (size_t i = 0; i < c.queue.size(); ++i) {
         const Queued& q = c.queue[i];
@@ -45,9 +46,10 @@ void FrFcfsDram::advance(uint64_t now_ps, std::vector<DramCompletion>& out) {
           continue;
         }
         const bool hit = c.banks[q.loc.bank].open_row == q.loc.row;
-        if (best < 0 || (hit && !best_hit) || (hit == best_hit && age(q) < age(c.queue[best]))) {
+        if (best < 0 || (hit && !best_hit) || (hit == best_hit && age(q) < age(*best_q))) {
           best = static_cast<int>(i);
           best_hit = hit;
+          best_q = &q;
         }
       }
       if (best < 0) {  // the channel's next decision: every request left waits
