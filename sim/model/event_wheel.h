@@ -28,6 +28,21 @@ class EventWheel {
 
   bool empty() const { return count_ == 0; }
 
+  // The first cycle at or after `from` whose bucket is marked in `nonempty` (a bit per bucket of
+  // a wheel of kWheelCycles), all ones when none is; every marked bucket's cycle lies in
+  // [from, from + kWheelCycles). Shared with UnitQueue, which keeps the same bitmap.
+  static uint64_t first_marked_cycle(const std::vector<uint64_t>& nonempty, uint64_t from) {
+    constexpr uint64_t kWords = kWheelCycles / 64;
+    uint64_t c = from;
+    for (uint64_t i = 0; i <= kWords; ++i) {
+      const uint64_t b = c & (kWheelCycles - 1);
+      const uint64_t bits = nonempty[b / 64] & (~uint64_t{0} << (b % 64));
+      if (bits) return c - (b % 64) + static_cast<uint64_t>(std::countr_zero(bits));
+      c += 64 - (b % 64);
+    }
+    return ~uint64_t{0};
+  }
+
   // push, top_cycle and pop are forced inline: one of each per unit event, in its hot loop.
   // Schedules `slot` at `cycle` (>= the cycle of the last pop).
   [[gnu::always_inline]] void push(uint64_t cycle, uint32_t slot) {
@@ -92,17 +107,7 @@ class EventWheel {
 
  private:
   // First non-empty bucket from now_, as a cycle (all wheel events are in [now_, now_ + W)).
-  uint64_t next_wheel_cycle() const {
-    constexpr uint64_t kWords = kWheelCycles / 64;
-    uint64_t c = now_;
-    for (uint64_t i = 0; i <= kWords; ++i) {
-      const uint64_t b = c & (kWheelCycles - 1);
-      const uint64_t bits = nonempty_[b / 64] & (~uint64_t{0} << (b % 64));
-      if (bits) return c - (b % 64) + static_cast<uint64_t>(std::countr_zero(bits));
-      c += 64 - (b % 64);
-    }
-    return ~uint64_t{0};
-  }
+  uint64_t next_wheel_cycle() const { return first_marked_cycle(nonempty_, now_); }
 
   bool slot_order_;
   std::vector<uint32_t> link_;  // per slot: the next slot in its bucket

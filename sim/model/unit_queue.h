@@ -159,17 +159,7 @@ class UnitQueue {
   }
   // First non-empty bucket from now_, as a cycle (all wheel entries are in [now_, now_ + W):
   // each kind's last cycle taken is at or before now_).
-  uint64_t next_wheel_cycle() const {
-    constexpr uint64_t kWords = kWheelCycles / 64;
-    uint64_t c = now_;
-    for (uint64_t i = 0; i <= kWords; ++i) {
-      const uint64_t b = c & (kWheelCycles - 1);
-      const uint64_t bits = nonempty_[b / 64] & (~uint64_t{0} << (b % 64));
-      if (bits) return c - (b % 64) + static_cast<uint64_t>(std::countr_zero(bits));
-      c += 64 - (b % 64);
-    }
-    return ~uint64_t{0};
-  }
+  uint64_t next_wheel_cycle() const { return EventWheel::first_marked_cycle(nonempty_, now_); }
 
   std::vector<uint32_t> link_arrival_, link_event_;  // per slot: the next slot in its bucket
   std::vector<Bucket> buckets_;

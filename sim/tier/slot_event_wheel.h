@@ -40,7 +40,8 @@ class SlotEventWheel {
     uint64_t wheel = kNoCycle;
     if (!bits) [[unlikely]] {
       // The next non-empty word, wrapping round (w's low bits, the latest cycles, come last).
-      for (uint64_t i = 1; i <= 64 && !bits; ++i) bits = word = nonempty_[w = (b0 / 64 + i) % 64];
+      for (uint64_t i = 1; i <= kMarkWords && !bits; ++i)
+        bits = word = nonempty_[w = (b0 / 64 + i) % kMarkWords];
     }
     const uint64_t b = w * 64 + static_cast<uint64_t>(std::countr_zero(bits));
     if (bits) wheel = now_ + ((b - b0) & kBucketMask);
@@ -86,11 +87,12 @@ class SlotEventWheel {
  private:
   static constexpr int kSlotBits = 16;  // a far event's key is cycle << kSlotBits | slot
   static constexpr uint64_t kBucketMask = kFarCycles - 1;
+  static constexpr uint64_t kMarkWords = kFarCycles / 64;  // of nonempty_
   static_assert(kFarCycles % 64 == 0);
 
   uint64_t now_ = 0;                  // the cycle of the last event taken
   uint64_t far_next_ = kNoCycle;      // the earliest far event's cycle
-  uint64_t nonempty_[kFarCycles / 64] = {};     // bit b % 64 of word b / 64: bucket b holds a slot
+  uint64_t nonempty_[kMarkWords] = {};     // bit b % 64 of word b / 64: bucket b holds a slot
   uint64_t masks_[kFarCycles * kWords] = {};    // [bucket * kWords + slot / 64]: bit slot % 64
   std::priority_queue<uint64_t, std::vector<uint64_t>, std::greater<uint64_t>> far_;
 };
