@@ -110,7 +110,7 @@ bool L1Cache::read_general_as(Cache& tags, tlm::tlm_generic_payload& trans, cons
   // The downstream may have moved on (else the backlog's front is stuck as advance() left it).
   if (!queue_empty() && !(stalled_ && decidable_ps() <= stalled_limit_ps_)) advance_as<Cache>();
   const uint64_t c = std::max(t, next_lookup_);
-  if (!queue_empty() || c * period_ps_ > decidable_ps()) {
+  if (!queue_empty() || !decidable_at(c * period_ps_)) {
     // Behind a backlog the front, and so the horizon and the wake-up, stay as they are (driven
     // by call there is no wake-up to renew).
     const bool front = queue_empty();
