@@ -164,7 +164,7 @@ void RayPacket::leaf(const MemoryImage& image, const NodeView& n, __mmask16 acti
 }
 
 template <class Decoder, class Lanes>
-void RayPacket::traverse(const MemoryImage& image, Lanes& lanes) {
+[[gnu::flatten]] void RayPacket::traverse(const MemoryImage& image, Lanes& lanes) {
   Entry stack[kStackDepth];
   int sp = 0;
   __mmask16 active = static_cast<__mmask16>(live_);
