@@ -3,15 +3,13 @@
 
 #include "layout/layout_dispatch.h"
 #include "tracer/fetch_log.h"
-#include "traversal/traversal.h"
+#include "traversal/batch_traversal.h"
 
 namespace rtusim {
 
 void HostBackend::trace(std::span<const RayRecord> rays, std::span<Hit> hits) {
-  with_layout_decoder(image_, [&]<class Decoder>() {
-    for (size_t i = 0; i < rays.size(); ++i)
-      hits[i] = traverse<Decoder>(image_, rays[i].ray, rays[i].any_hit(), counts_);
-  });
+  with_layout_decoder(image_,
+                      [&]<class Decoder>() { traverse_batch<Decoder>(image_, rays, hits, counts_); });
 }
 
 void HostBackend::replay(const FetchLog& log) {

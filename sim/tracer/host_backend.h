@@ -10,6 +10,7 @@ namespace rtusim {
 
 // Fetches and bytes per stream (indexed by Stream).
 struct FetchCounts {
+  static constexpr bool kFetchOrderFree = true;  // sums: batched rays may report interleaved
   std::array<uint64_t, 3> fetches{};
   std::array<uint64_t, 3> bytes{};
   void fetch(Stream s, uint64_t /*addr*/, uint32_t n) {

@@ -17,6 +17,7 @@
 #include "test_geometry.h"
 #include "traversal/batch_traversal.h"
 #include "traversal/fetch_recorder.h"
+#include "tracer/fetch_log.h"
 
 namespace rtusim {
 namespace {
@@ -183,6 +184,49 @@ void check(const MemoryImage& image, std::span<const Record> rays, const std::st
   EXPECT_EQ(counts.addr_sum, want_counts.addr_sum);
 }
 
+// A fetch log's replay: every fetch and ray end, in order.
+struct ReplayList {
+  std::vector<uint64_t> items;
+  void fetch(Stream s, uint64_t addr, uint32_t bytes) {
+    items.insert(items.end(), {uint64_t{static_cast<uint8_t>(s)}, addr, bytes});
+  }
+  void end_ray(uint32_t pixel, RayKind kind) {
+    items.insert(items.end(), {~uint64_t{0}, pixel, static_cast<uint64_t>(kind)});
+  }
+};
+
+// Records `rays` into a FetchLog ray by ray and batched: the same replay and the same encoding.
+template <class D>
+void check_log(const MemoryImage& image, std::span<const Record> rays, const std::string& what) {
+  SCOPED_TRACE(what + " log");
+  std::vector<RayRecord> records(rays.size());
+  for (size_t i = 0; i < rays.size(); ++i)
+    records[i] = {rays[i].ray, rays[i].shadow ? RayKind::kShadow : RayKind::kPrimary,
+                  static_cast<uint32_t>(i)};
+  FetchLog want, got;
+  want.fetch(Stream::kTriangle, 12345, 36);  // a log that already holds a ray
+  got.fetch(Stream::kTriangle, 12345, 36);
+  want.end_ray(records.front());
+  got.end_ray(records.front());
+  for (const RayRecord& r : records) {
+    traverse<D>(image, r.ray, r.any_hit(), want);
+    want.end_ray(r);
+  }
+  struct Sink {
+    FetchLog& log;
+    std::span<const RayRecord> rays;
+    void fetch(Stream s, uint64_t addr, uint32_t bytes) { log.fetch(s, addr, bytes); }
+    void end_ray(size_t i) { log.end_ray(rays[i]); }
+  } sink{got, records};
+  std::vector<Hit> hits(records.size());
+  traverse_batch<D>(image, std::span<const RayRecord>(records), std::span<Hit>(hits), sink);
+  ReplayList a, b;
+  want.replay(a);
+  got.replay(b);
+  EXPECT_TRUE(a.items == b.items);
+  EXPECT_EQ(want.size_bytes(), got.size_bytes());
+}
+
 // Interior steps, over the 16-ray packets of `rays`, whose lanes disagreed on the near side.
 template <class D>
 uint64_t mixed_splits(const MemoryImage& image, const std::vector<Record>& rays) {
@@ -217,6 +261,7 @@ void check_scene(const Scene& scene, uint32_t seed) {
         check<D>(image, all.subspan(5, 37), what);  // groups across the packet boundaries
         check<D>(image, all.subspan(3, 1), what);
         check<D>(image, all.subspan(0, 17), what);
+        check_log<D>(image, all, what);
 #if defined(__AVX512F__)
         // The disagreeing-lanes path is taken where origins scatter (and only there).
         if (sc.name.rfind("scattered", 0) == 0)
