@@ -1,7 +1,7 @@
 // Single-thread primary-ray throughput of the host kd-tree traversal, ray by ray (traverse())
-// and in 16-ray packets (traverse_batch(), 16x1 strips of the scan order), against Embree's
-// rtcIntersect1 and its own 16-ray packets (rtcIntersect16 on the same groups) on the same rays
-// in the same run, plus kd-tree build time and memory.
+// and in 16-ray packets (traverse_batch(), 16x1 strips of the scan order, and 4x4 tiles),
+// against Embree's rtcIntersect1 and its own 16-ray packets (rtcIntersect16 on the same groups)
+// on the same rays in the same run, plus kd-tree build time and memory.
 // Usage: traversal_bench [--verify] [SCENE ...]  (names under $RTUSIM_SCENES; default sponza and
 // kitchen). Always prints, on stderr, a hash of the DFL hits and of their fetch stream (every
 // node, list and triangle fetch in issue order), ray by ray and batched: a faster traversal must
@@ -108,6 +108,27 @@ bool print_hashes(const std::string& scene, const MemoryImage& image, const std:
   return same;
 }
 
+// Whether the batched traversal of the rays in 4x4 tiles gives every ray its own hit.
+bool check_tiles(const MemoryImage& image, const std::vector<Ray>& rays,
+                 const std::vector<Record>& tiles, int w, int h) {
+  std::vector<Hit> hits(tiles.size());
+  NullFetchSink none;
+  traverse_batch<DflLayout>(image, std::span<const Record>(tiles), std::span<Hit>(hits), none);
+  size_t k = 0;
+  for (int ty = 0; ty < h; ty += 4)
+    for (int tx = 0; tx < w; tx += 4)
+      for (int y = ty; y < ty + 4; ++y)
+        for (int x = tx; x < tx + 4; ++x, ++k) {
+          const Hit a = traverse<DflLayout>(image, rays[size_t(y) * w + x], false, none);
+          if (std::memcmp(&a, &hits[k], sizeof a) != 0) {
+            std::fprintf(stderr, "MISMATCH %s: 4x4-tile packets, pixel %d %d\n",
+                         image.layout.c_str(), x, y);
+            return false;
+          }
+        }
+  return true;
+}
+
 double max_rss_mb() {
   rusage u{};
   getrusage(RUSAGE_SELF, &u);
@@ -160,8 +181,17 @@ int main(int argc, char** argv) {
     // Interleave the four so machine noise hits all alike; checksums keep the work alive.
     std::vector<Record> records(rays.size());
     for (size_t i = 0; i < rays.size(); ++i) records[i] = {rays[i], false};
+    // The same rays in 4x4 tiles (tile after tile in scan order), for packets of both kinds.
+    std::vector<Ray> tile_rays;
+    for (int ty = 0; ty < h; ty += 4)
+      for (int tx = 0; tx < w; tx += 4)
+        for (int y = ty; y < ty + 4; ++y)
+          for (int x = tx; x < tx + 4; ++x) tile_rays.push_back(rays[size_t(y) * w + x]);
+    std::vector<Record> tile_records(rays.size());
+    for (size_t i = 0; i < rays.size(); ++i) tile_records[i] = {tile_rays[i], false};
     std::vector<Hit> hits(rays.size());
-    std::vector<double> kd_rate, pkt_rate, emb_rate, e16_rate;
+    all_same &= check_tiles(image, rays, tile_records, w, h);
+    std::vector<double> kd_rate, pkt_rate, emb_rate, e16_rate, tile_rate, e16_tile_rate;
     double checksum = 0.0;
     for (int r = 0; r < reps; ++r) {
       NullFetchSink sink;
@@ -183,9 +213,20 @@ int main(int argc, char** argv) {
       }
       for (const Hit& hit : hits) checksum += hit.triangle;
       e16_rate.push_back(rays.size() / (cpu_s() - t0));
+      t0 = cpu_s();
+      traverse_batch<DflLayout>(image, std::span<const Record>(tile_records),
+                                std::span<Hit>(hits), sink);
+      for (const Hit& hit : hits) checksum += hit.triangle;
+      tile_rate.push_back(rays.size() / (cpu_s() - t0));
+      t0 = cpu_s();
+      for (size_t b = 0; b < rays.size(); b += 16)
+        embree.intersect16(tile_rays.data() + b, 16, hits.data() + b);
+      for (const Hit& hit : hits) checksum += hit.triangle;
+      e16_tile_rate.push_back(rays.size() / (cpu_s() - t0));
     }
     const double kd = median(kd_rate) / 1e6, pkt = median(pkt_rate) / 1e6;
     const double emb = median(emb_rate) / 1e6, e16 = median(e16_rate) / 1e6;
+    const double tile = median(tile_rate) / 1e6, e16_tile = median(e16_tile_rate) / 1e6;
     std::printf("%-20s %9u %8.3f %9llu %9.1f %10.2f %10.2f %10.2f %10.2f %7.2f %7.2f %7.2f\n",
                 name.c_str(), scene.triangle_count(), median(build_times),
                 (unsigned long long)tree.report.nodes, rss_build, kd, pkt, emb, e16, kd / emb,
@@ -200,11 +241,17 @@ int main(int argc, char** argv) {
     bench_timing::print_ratio("traversal_bench", case_name.c_str(),
                               "kd-tree traversal, 16-ray packets", pkt,
                               "Embree rtcIntersect16", e16, "Mrays/s");
+    bench_timing::print_ratio("traversal_bench", case_name.c_str(),
+                              "kd-tree traversal, 16-ray packets of 4x4 tiles", tile,
+                              "Embree rtcIntersect1", emb, "Mrays/s");
+    bench_timing::print_ratio("traversal_bench", case_name.c_str(),
+                              "kd-tree traversal, 16-ray packets of 4x4 tiles", tile,
+                              "Embree rtcIntersect16, 4x4 tiles", e16_tile, "Mrays/s");
   }
   if (!verify)
     std::printf("(medians of %d runs; ratio = kd-tree rays/s / Embree rtcIntersect1 rays/s, "
                 "pkt = kd-tree 16-ray packets (16x1 strips), e16 = Embree rtcIntersect16 on the "
-                "same strips; 1 thread, thread CPU time; rss_MB = growth of peak RSS during the "
+                "same strips (4x4 tiles: the RATIO lines); 1 thread, thread CPU time; rss_MB = growth of peak RSS during the "
                 "builds)\n",
                 reps);
   return all_same ? 0 : 1;
