@@ -12,6 +12,14 @@ void HostBackend::trace(std::span<const RayRecord> rays, std::span<Hit> hits) {
                       [&]<class Decoder>() { traverse_batch<Decoder>(image_, rays, hits, counts_); });
 }
 
+void HostBackend::join(const TraceBackend& copy) {
+  const FetchCounts& c = static_cast<const HostBackend&>(copy).counts_;
+  for (size_t i = 0; i < c.fetches.size(); ++i) {
+    counts_.fetches[i] += c.fetches[i];
+    counts_.bytes[i] += c.bytes[i];
+  }
+}
+
 void HostBackend::replay(const FetchLog& log) {
   struct CountingSink {
     FetchCounts& counts;

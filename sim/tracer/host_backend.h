@@ -2,6 +2,7 @@
 // per stream (no memory model).
 #pragma once
 #include <array>
+#include <memory>
 
 #include "layout/memory_image.h"
 #include "tracer/ray_batch.h"
@@ -25,6 +26,10 @@ class HostBackend final : public TraceBackend {
   void trace(std::span<const RayRecord> rays, std::span<Hit> hits) override;
   const MemoryImage* replay_image() const override { return &image_; }
   void replay(const FetchLog& log) override;
+  std::unique_ptr<TraceBackend> fork() const override {
+    return std::make_unique<HostBackend>(image_);
+  }
+  void join(const TraceBackend& copy) override;
   const FetchCounts& counts() const { return counts_; }
 
  private:
