@@ -1,7 +1,8 @@
 // The host traversal's 16-ray packets (traverse_batch()) against ray by ray (traverse()) on the
 // ray batches of a Whitted wavefront frame, by kind: primary, shadow, secondary (reflection and
 // refraction); with no fetch sink, and recording every fetch in a FetchLog as the parallel
-// functional tier does.
+// functional tier does (packets: each ray's fetches buffered, then handed to the log in ray
+// order; that costs more than the packets save, so the functional tier records ray by ray).
 // Usage: packet_kinds_bench [SCENE ...]  (names under $RTUSIM_SCENES; default sponza and kitchen)
 #include <cstdio>
 #include <string>
