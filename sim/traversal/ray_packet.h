@@ -28,9 +28,8 @@ class RayPacket {
  public:
   static constexpr int kLanes = 16;
 
-  // What a packet traversal did (for tests and benchmarks).
+  // What a packet traversal did (for tests).
   struct Stats {
-    uint64_t node_visits = 0;   // packet node steps (interior and leaf)
     uint64_t mixed_splits = 0;  // interior steps whose lanes disagreed on the near side
   };
 
@@ -176,7 +175,6 @@ template <class Decoder, class Lanes>
     // Descent: interior nodes until a leaf, each one vector step for the active lanes.
     report_node(image, node, active, lanes);
     NodeView n = Decoder::decode(image, node);
-    ++stats_.node_visits;
     while (!n.leaf) {
       const int a = n.axis;
       const __m512 split = _mm512_set1_ps(n.split);
@@ -233,7 +231,6 @@ template <class Decoder, class Lanes>
       }
       report_node(image, node, active, lanes);
       n = Decoder::decode(image, node);
-      ++stats_.node_visits;
     }
     _mm512_store_ps(t_max_, t_max);
     leaf(image, n, active, lanes);
