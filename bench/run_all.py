@@ -77,7 +77,8 @@ def main():
     scenes_dir = os.environ.get("RTUSIM_SCENES", os.path.join(os.path.dirname(PROJECT), "shared", "scenes"))
     scenes = ["sponza_dabrovic"] if args.quick else ["sponza_dabrovic", "kitchen"]
     runs = "1" if args.quick else "5"
-    benches = [[os.path.join(b, "traversal_bench")] + scenes]
+    benches = [[os.path.join(b, "traversal_bench")] + scenes,
+               [os.path.join(b, "packet_kinds_bench")] + scenes]
     benches += [[os.path.join(b, "functional_tier_bench"), os.path.join(PROJECT, "configs", s + ".toml")]
                 + (["--set", "image.width=128", "--set", "image.height=128"] if args.quick else [])
                 for s in scenes]

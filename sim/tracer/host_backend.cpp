@@ -3,15 +3,21 @@
 
 #include "layout/layout_dispatch.h"
 #include "tracer/fetch_log.h"
-#include "traversal/traversal.h"
+#include "traversal/batch_traversal.h"
 
 namespace rtusim {
 
 void HostBackend::trace(std::span<const RayRecord> rays, std::span<Hit> hits) {
-  with_layout_decoder(image_, [&]<class Decoder>() {
-    for (size_t i = 0; i < rays.size(); ++i)
-      hits[i] = traverse<Decoder>(image_, rays[i].ray, rays[i].any_hit(), counts_);
-  });
+  with_layout_decoder(image_,
+                      [&]<class Decoder>() { traverse_batch<Decoder>(image_, rays, hits, counts_); });
+}
+
+void HostBackend::join(const TraceBackend& copy) {
+  const FetchCounts& c = static_cast<const HostBackend&>(copy).counts_;
+  for (size_t i = 0; i < c.fetches.size(); ++i) {
+    counts_.fetches[i] += c.fetches[i];
+    counts_.bytes[i] += c.bytes[i];
+  }
 }
 
 void HostBackend::replay(const FetchLog& log) {

@@ -9,6 +9,7 @@
 
 #include <oneapi/tbb/enumerable_thread_specific.h>
 #include <oneapi/tbb/global_control.h>
+#include <oneapi/tbb/parallel_for.h>
 
 #include "layout/layout_dispatch.h"
 #include "tracer/chunk_pipeline.h"
@@ -108,6 +109,18 @@ ParallelBackend::ParallelBackend(TraceBackend& inner) : inner_(inner) {
 void ParallelBackend::trace(std::span<const RayRecord> rays, std::span<Hit> hits) {
   const MemoryImage& image = *inner_.replay_image();
   const size_t chunks = (rays.size() + kRaysPerChunk - 1) / kRaysPerChunk;
+  // An order-free backend: chunks traced in per-thread copies of it, summed at the end.
+  if (chunks > 1 && inner_.fork() != nullptr) {
+    tbb::enumerable_thread_specific<std::unique_ptr<TraceBackend>> copies(
+        [&] { return inner_.fork(); });
+    tbb::parallel_for(size_t{0}, chunks, [&](size_t c) {
+      const size_t begin = c * kRaysPerChunk;
+      const size_t n = std::min(kRaysPerChunk, rays.size() - begin);
+      copies.local()->trace(rays.subspan(begin, n), hits.subspan(begin, n));
+    });
+    for (const std::unique_ptr<TraceBackend>& copy : copies) inner_.join(*copy);
+    return;
+  }
   run_chunks<FetchLog>(
       chunks,
       [&](size_t c, FetchLog& log) {

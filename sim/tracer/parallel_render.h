@@ -22,7 +22,9 @@ namespace rtusim {
 int parallel_threads();
 
 // A TraceBackend whose trace() traverses a batch in parallel chunks and replays their fetches
-// into `inner` in batch order. `inner` must have a replay_image().
+// into `inner` in batch order. `inner` must have a replay_image(). An inner backend that can
+// fork() (order-free: counters) has the chunks traced in copies of itself instead, joined into
+// it after the batch.
 class ParallelBackend final : public TraceBackend {
  public:
   explicit ParallelBackend(TraceBackend& inner);

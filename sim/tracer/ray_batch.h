@@ -2,6 +2,7 @@
 // The host backend traverses them at once; the SystemC unit consumes the same batches.
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -33,6 +34,12 @@ class TraceBackend {
   // replay() then does what trace() of the log's rays would have done. nullptr: trace() only.
   virtual const MemoryImage* replay_image() const { return nullptr; }
   virtual void replay(const FetchLog& log);
+
+  // A backend whose state is a sum over its rays, whatever their order (counters), can instead
+  // trace on other threads in copies of itself: fork() makes an empty copy (nullptr: it
+  // cannot), join() adds a copy's state to this one's.
+  virtual std::unique_ptr<TraceBackend> fork() const { return nullptr; }
+  virtual void join(const TraceBackend& /*copy*/) {}
 };
 
 }  // namespace rtusim

@@ -59,6 +59,35 @@ class EmbreeScene {
     return h;
   }
 
+  // Closest hits of rays r[0, n) (n <= 16) as one packet with rtcIntersect16, each over
+  // (0, t_max); lanes past n are invalid.
+  void intersect16(const Ray* r, int n, Hit* out) {
+    alignas(64) int valid[16];
+    alignas(64) RTCRayHit16 rh;
+    for (int i = 0; i < 16; ++i) {
+      valid[i] = i < n ? -1 : 0;
+      const Ray& ray = r[i < n ? i : 0];
+      rh.ray.org_x[i] = ray.origin.x;
+      rh.ray.org_y[i] = ray.origin.y;
+      rh.ray.org_z[i] = ray.origin.z;
+      rh.ray.dir_x[i] = ray.dir.x;
+      rh.ray.dir_y[i] = ray.dir.y;
+      rh.ray.dir_z[i] = ray.dir.z;
+      rh.ray.tnear[i] = 0.0f;
+      rh.ray.tfar[i] = ray.t_max;
+      rh.ray.mask[i] = 0xffffffffu;
+      rh.ray.flags[i] = 0;
+      rh.ray.time[i] = 0.0f;
+      rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+    }
+    rtcIntersect16(valid, scene_, &context_, &rh);
+    for (int i = 0; i < n; ++i) {
+      out[i] = Hit{};
+      if (rh.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID)
+        out[i] = {rh.ray.tfar[i], rh.hit.primID[i], rh.hit.u[i], rh.hit.v[i]};
+    }
+  }
+
  private:
   RTCDevice device_ = nullptr;
   RTCScene scene_ = nullptr;
