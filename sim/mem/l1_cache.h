@@ -236,6 +236,9 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
   // cleared by a lookup at or after the fill; lookups come in rising cycles and a fill is never
   // before the next lookup, so a cleared MSHR stays free until allocated again).
   uint64_t busy_mask_ = 0;
+  // With busy_mask_: a bit per line number mod 64 of the MSHRs in busy_mask_ (a superset, set at
+  // allocation, recomputed when the mask shrinks). A line whose bit is clear merges with none.
+  uint64_t busy_lines_ = 0;
   // Requests not looked up yet, in arrival order: queue_[queue_head_ ..]. A vector taken from
   // the front (a std::deque's push and pop are calls): emptied whenever the last is taken, and
   // its taken front dropped when it is most of it.
