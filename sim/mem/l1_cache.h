@@ -70,7 +70,10 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
   tlm::tlm_initiator_socket<>& downstream() override { return initiator_socket; }
   // The downstream's next decision (the DRAM). Without one, the downstream must answer every
   // read at once (TLM_COMPLETED).
-  void set_downstream_horizon(const MemoryHorizon* h) override { downstream_horizon_ = h; }
+  void set_downstream_horizon(const MemoryHorizon* h) override {
+    downstream_horizon_ = h;
+    downstream_word_ = h ? h->horizon_word() : &kNeverWord;
+  }
   // The target bound to initiator_socket, if it takes reads by direct call and answers them so
   // (the DRAM); nullptr: through the socket.
   void set_downstream_direct(DirectTarget* d) { downstream_direct_ = d; }
@@ -87,6 +90,7 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
   // The cycle of the first lookup not decided yet (the initiator must not run past it), or
   // never.
   uint64_t horizon_ps() const override { return horizon_ps_; }
+  const uint64_t* horizon_word() const override { return &horizon_ps_; }
   bool reports_changes() const override { return true; }
   // A module is never a const object: the horizon view hands out the module to drive.
   CallDriven* call_driven() const override { return const_cast<L1Cache*>(this); }
@@ -150,12 +154,14 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
   void advance_as();
   // Latest time (ps) up to which every fill is known: our unknown fills complete after the
   // downstream's next decision; our future reads are sent after the lookups still to decide.
-  uint64_t decidable_ps() const {
-    return std::max(now_ps(), downstream_horizon_ ? downstream_horizon_->horizon_ps() : kNever);
-  }
+  uint64_t decidable_ps() const { return std::max(now_ps(), downstream_horizon()); }
   // at_ps <= decidable_ps(), the kernel's time asked only if the downstream's horizon is before.
   bool decidable_at(uint64_t at_ps) const {
-    return !downstream_horizon_ || at_ps <= downstream_horizon_->horizon_ps() || at_ps <= now_ps();
+    return at_ps <= downstream_horizon() || at_ps <= now_ps();
+  }
+  // The downstream's horizon (kNever without one), from its horizon word if it has one.
+  uint64_t downstream_horizon() const {
+    return downstream_word_ ? *downstream_word_ : downstream_horizon_->horizon_ps();
   }
   // A read of one line: else the error response set.
   bool valid_read(tlm::tlm_generic_payload& trans) {
@@ -226,6 +232,9 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
   uint64_t period_ps_;
   FastDivider cycles_;  // picoseconds to cycles
   const MemoryHorizon* downstream_horizon_ = nullptr;
+  // downstream_horizon_'s horizon word; kNeverWord without a downstream horizon; nullptr: ask it.
+  static constexpr uint64_t kNeverWord = kNever;
+  const uint64_t* downstream_word_ = &kNeverWord;
   DirectTarget* downstream_direct_ = nullptr;
   std::vector<Mshr> mshrs_;
   // Per MSHR, in arrays a lookup scans without a branch per MSHR: its line, and the cycle it is

@@ -61,7 +61,8 @@ void TraversalUnit::set_direct_targets(L1Cache* node, DirectTarget* data) {
 
 uint64_t TraversalUnit::horizon() const {
   uint64_t h = MemoryHorizon::kNever;
-  for (const MemoryHorizon* m : horizons_) h = std::min(h, m->horizon_ps());
+  for (const uint64_t* w : horizon_words_) h = std::min(h, *w);
+  for (const MemoryHorizon* m : horizons_asked_) h = std::min(h, m->horizon_ps());
   return h;
 }
 

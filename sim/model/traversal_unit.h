@@ -67,6 +67,10 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
   // changes keeps a pointer to the unit's flag: it must not act once the unit is destroyed.
   void add_horizon(const MemoryHorizon* h) {
     horizons_.push_back(h);
+    if (const uint64_t* w = h->horizon_word())
+      horizon_words_.push_back(w);
+    else
+      horizons_asked_.push_back(h);
     if (h->reports_changes())
       h->watch(&horizon_moved_);
     else
@@ -153,6 +157,9 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
   const MemoryImage& image_;
   HostInterface& host_;
   std::vector<const MemoryHorizon*> horizons_;
+  // horizons_ split: those read from their horizon words, those asked by call.
+  std::vector<const uint64_t*> horizon_words_;
+  std::vector<const MemoryHorizon*> horizons_asked_;
   // Every horizon reports its changes (MemoryHorizon::reports_changes): the unit keeps the
   // last one it computed until a component sets horizon_moved_.
   bool horizons_report_ = true;
