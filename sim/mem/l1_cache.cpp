@@ -32,8 +32,11 @@ L1Cache::L1Cache(const sc_core::sc_module_name& name, const L1Params& p)
   tags_.visit([this](auto& cache) {
     tag_cache_ = &cache;
     using Cache = std::remove_reference_t<decltype(cache)>;
-    read_cycle_ = &L1Cache::read_cycle_as<Cache>;
-    advance_ = &L1Cache::advance_as<Cache>;
+    read_cycle_ = [](L1Cache& l1, tlm::tlm_generic_payload& trans, const FetchTag* tag,
+                     uint64_t t, uint64_t* answer_cycle) {
+      return l1.read_cycle_as<Cache>(trans, tag, t, answer_cycle);
+    };
+    advance_ = [](L1Cache& l1) { l1.advance_as<Cache>(); };
   });
   for (size_t i = 0; i < mshrs_.size(); ++i) {
     mshrs_[i].tag = new FetchTag;
@@ -75,8 +78,8 @@ bool L1Cache::read_at(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t*
     *done_ps = at_ps;
     return true;
   }
-  if (!(this->*read_cycle_)(trans, trans.get_extension<FetchTag>(), cycles_.div_up(at_ps),
-                           &answer))
+  if (!read_cycle_(*this, trans, trans.get_extension<FetchTag>(), cycles_.div_up(at_ps),
+                   &answer))
     return false;
   *done_ps = answer * period_ps_;
   return true;

@@ -112,12 +112,12 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
       *answer_cycle = t;
       return true;
     }
-    return (this->*read_cycle_)(trans, tag, t, answer_cycle);
+    return read_cycle_(*this, trans, tag, t, answer_cycle);
   }
   // read_cycle() of a read the caller knows to be valid: a READ of bytes within one line.
   bool read_line_cycle(tlm::tlm_generic_payload& trans, const FetchTag* tag, uint64_t t,
                        uint64_t* answer_cycle) {
-    return (this->*read_cycle_)(trans, tag, t, answer_cycle);
+    return read_cycle_(*this, trans, tag, t, answer_cycle);
   }
   uint64_t clock_period_ps() const { return period_ps_; }
   // A fill by direct call (the MSHRs' reads name the cache as reply_to when they go by direct
@@ -149,7 +149,7 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
                                      sc_core::sc_time& delay);
   // Decides queued lookups, oldest first, while they are decidable; answers them. One indirect
   // call into advance_as<the tags' cache type>, whose lookups call its access() inline.
-  void advance() { (this->*advance_)(); }
+  void advance() { advance_(*this); }
   template <class Cache>
   void advance_as();
   // Latest time (ps) up to which every fill is known: our unknown fills complete after the
@@ -224,9 +224,11 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
   L1Params p_;
   SetAssocCache tags_;
   void* tag_cache_ = nullptr;  // tags_'s concrete cache, as read_cycle_ knows its type
-  bool (L1Cache::*read_cycle_)(tlm::tlm_generic_payload&, const FetchTag*, uint64_t,
-                               uint64_t*) = nullptr;
-  void (L1Cache::*advance_)() = nullptr;  // advance_as<tags_'s concrete cache>
+  // read_cycle_as and advance_as<tags_'s concrete cache>, as plain function pointers (a call
+  // through a member function pointer tests and adjusts it first).
+  bool (*read_cycle_)(L1Cache&, tlm::tlm_generic_payload&, const FetchTag*, uint64_t,
+                      uint64_t*) = nullptr;
+  void (*advance_)(L1Cache&) = nullptr;
   uint32_t offset_bits_;
   uint64_t line_bytes_;
   uint64_t period_ps_;
