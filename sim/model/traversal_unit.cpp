@@ -416,6 +416,10 @@ void TraversalUnit::arrived(tlm::tlm_generic_payload& trans, uint64_t at_ps) {
   if (--s.pending == 0 && !s.issuing) queue_.push_arrival(s.ready, slot);
 }
 
+void TraversalUnit::answered(tlm::tlm_generic_payload& trans, uint64_t at_ps) {
+  arrived(trans, at_ps);
+}
+
 void TraversalUnit::write_stats(Stats& stats) const {
   stats.set("unit.rays", rays_);
   stats.set("unit.steps", steps_);

@@ -81,7 +81,7 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
   void set_direct_targets(L1Cache* node, DirectTarget* data);
 
   // An answer by direct call (the unit's reads by direct call name the unit as reply_to).
-  void answered(tlm::tlm_generic_payload& trans, uint64_t at_ps) override { arrived(trans, at_ps); }
+  void answered(tlm::tlm_generic_payload& trans, uint64_t at_ps) override;
 
   uint64_t steps() const { return steps_; }
   void write_stats(Stats& stats) const;  // unit.*
@@ -140,7 +140,8 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
   [[gnu::always_inline]] inline void issue_node(uint32_t slot, uint64_t cycle);
   tlm::tlm_sync_enum nb_transport_bw(tlm::tlm_generic_payload& trans, tlm::tlm_phase& phase,
                                      sc_core::sc_time& delay);
-  void arrived(tlm::tlm_generic_payload& trans, uint64_t at_ps);
+  // Inline in answered() (one per answer by direct call).
+  [[gnu::always_inline]] inline void arrived(tlm::tlm_generic_payload& trans, uint64_t at_ps);
   // Throws unless the memory answered TLM_OK_RESPONSE.
   static void check_response(const tlm::tlm_generic_payload& trans) {
     if (trans.get_response_status() != tlm::TLM_OK_RESPONSE) [[unlikely]] memory_error(trans);

@@ -125,8 +125,14 @@ class UnitQueue {
       now_event_ = c;
     }
     if (k.arrival_head == kNone && k.event_head == kNone) {
-      nonempty_[b / 64] &= ~(uint64_t{1} << (b % 64));
-      next_ = find_next();  // a far entry of this cycle, if any, included
+      uint64_t& word = nonempty_[b / 64];
+      word &= ~(uint64_t{1} << (b % 64));
+      // The next marked bucket of this word if any (the common case), else the scan; a far
+      // entry of this cycle, if any, included.
+      const uint64_t later = word & (~uint64_t{0} << (b % 64));
+      next_ = later ? std::min(c - b % 64 + static_cast<uint64_t>(std::countr_zero(later)),
+                               far_next_)
+                    : find_next();
     } else {
       next_ = c;
     }
