@@ -59,13 +59,6 @@ void TraversalUnit::set_direct_targets(L1Cache* node, DirectTarget* data) {
   data_direct_ = data;
 }
 
-uint64_t TraversalUnit::horizon() const {
-  uint64_t h = MemoryHorizon::kNever;
-  for (const uint64_t* w : horizon_words_) h = std::min(h, *w);
-  for (const MemoryHorizon* m : horizons_asked_) h = std::min(h, m->horizon_ps());
-  return h;
-}
-
 void TraversalUnit::run() {
   for (;;) {
     // A batch posted before the first sc_start() notifies before this thread waits: check.

@@ -26,6 +26,7 @@
 // mem_protocol.h), not through the socket: the same decisions without sc_time arithmetic per
 // request.
 #pragma once
+#include <algorithm>
 #include <cstdint>
 #include <deque>
 #include <string>
@@ -147,7 +148,13 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
     if (trans.get_response_status() != tlm::TLM_OK_RESPONSE) [[unlikely]] memory_error(trans);
   }
   [[noreturn, gnu::cold]] static void memory_error(const tlm::tlm_generic_payload& trans);
-  uint64_t horizon() const;
+  // Inline: asked at every move of a horizon, from the run loop.
+  [[gnu::always_inline]] uint64_t horizon() const {
+    uint64_t h = MemoryHorizon::kNever;
+    for (const uint64_t* w : horizon_words_) h = std::min(h, *w);
+    for (const MemoryHorizon* m : horizons_asked_) h = std::min(h, m->horizon_ps());
+    return h;
+  }
   uint64_t cycle_at_or_after(uint64_t t_ps) const { return cycles_.div_up(t_ps); }
   void trace(uint64_t cycle);  // samples the VCD variables, if any
 
