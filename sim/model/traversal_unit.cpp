@@ -74,6 +74,7 @@ template <class Decoder>
 void TraversalUnit::run_batch() {
   const uint64_t t0 = cycle_at_or_after(now_ps());
   last_cycle_ = t0;
+  const bool vcd = vcd_ != nullptr;  // in a register: the loop's stores may alias vcd_
   // When every memory component can be driven by call, the unit acts for them at their
   // horizons and the kernel only catches up at the end of the batch.
   bool by_call = !horizons_.empty();
@@ -125,7 +126,7 @@ void TraversalUnit::run_batch() {
     }
     ++events_processed_;
     process<Decoder>(slots_[slot], slot, t);
-    if (vcd_) trace(t);
+    if (vcd) [[unlikely]] trace(t);
   }
   // The kernel catches up with the unit: the batch ends at its last event.
   if (by_call)
