@@ -32,8 +32,11 @@ L1Cache::L1Cache(const sc_core::sc_module_name& name, const L1Params& p)
   tags_.visit([this](auto& cache) {
     tag_cache_ = &cache;
     using Cache = std::remove_reference_t<decltype(cache)>;
-    read_cycle_ = &L1Cache::read_cycle_as<Cache>;
-    advance_ = &L1Cache::advance_as<Cache>;
+    read_cycle_ = [](L1Cache& l1, tlm::tlm_generic_payload& trans, const FetchTag* tag,
+                     uint64_t t, uint64_t* answer_cycle) {
+      return l1.read_cycle_as<Cache>(trans, tag, t, answer_cycle);
+    };
+    advance_ = [](L1Cache& l1) { l1.advance_as<Cache>(); };
   });
   for (size_t i = 0; i < mshrs_.size(); ++i) {
     mshrs_[i].tag = new FetchTag;
@@ -75,8 +78,8 @@ bool L1Cache::read_at(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t*
     *done_ps = at_ps;
     return true;
   }
-  if (!(this->*read_cycle_)(trans, trans.get_extension<FetchTag>(), cycles_.div_up(at_ps),
-                           &answer))
+  if (!read_cycle_(*this, trans, trans.get_extension<FetchTag>(), cycles_.div_up(at_ps),
+                   &answer))
     return false;
   *done_ps = answer * period_ps_;
   return true;
@@ -154,6 +157,24 @@ L1Cache::Outcome L1Cache::lookup_as(Cache& tags, const Request& r, uint64_t c,
   size_t match = n, free = n;
   if (c >= busy_until_) {  // none busy (the common case): the first is the lowest free one
     free = 0;
+  } else if (n <= 64 && !((busy_lines_ >> (line & 63)) & 1) &&
+             (busy_mask_ | (~uint64_t{0} << (n - 1) << 1)) != ~uint64_t{0}) {
+    // No busy MSHR holds the line (its bit is clear) and one is surely free (not in
+    // busy_mask_): no merge, never blocked. A hit is decided without the MSHRs; a miss takes the
+    // lowest free one.
+    next_lookup_ = c + 1;
+    if (tags.access(addr)) {
+      ++hits_;
+      *answer_cycle = c + p_.hit_cycles;
+      return Outcome::kAnswered;
+    }
+    const uint64_t* const fills = mshr_fill_.data();
+    uint64_t idle = ~busy_mask_ & (~uint64_t{0} >> (64 - n));
+    for (uint64_t left = busy_mask_; left; left &= left - 1) {
+      const size_t i = static_cast<size_t>(std::countr_zero(left));
+      if (c >= fills[i]) idle |= uint64_t{1} << i;
+    }
+    return primary_miss(r, static_cast<size_t>(std::countr_zero(idle)), line, c, answer_cycle);
   } else if (n <= 64) {
     // The MSHRs of busy_mask_ only (the others are free at c); those found free drop out. In
     // locals: a store to the mask would make the arrays' next loads wait for it.
@@ -168,7 +189,13 @@ L1Cache::Outcome L1Cache::lookup_as(Cache& tags, const Request& r, uint64_t c,
         busy &= ~(uint64_t{1} << i);
       }
     }
-    busy_mask_ = busy;
+    if (busy != busy_mask_) {  // some dropped out: their lines too
+      busy_mask_ = busy;
+      uint64_t bits = 0;
+      for (uint64_t left = busy; left; left &= left - 1)
+        bits |= uint64_t{1} << (lines[std::countr_zero(left)] & 63);
+      busy_lines_ = bits;
+    }
     const uint64_t idle = ~busy & (~uint64_t{0} >> (64 - n));
     if (idle) free = static_cast<size_t>(std::countr_zero(idle));
   } else {
@@ -216,8 +243,12 @@ L1Cache::Outcome L1Cache::primary_miss(const Request& r, size_t index, uint64_t 
   mshr_line_[index] = line;
   m.request_cycle = r.t;
   mshr_fill_[index] = kUnknown;
+  if (index < 64) {
+    if (c >= busy_until_) busy_mask_ = busy_lines_ = 0;  // none busy at c
+    busy_mask_ |= uint64_t{1} << index;
+    busy_lines_ |= uint64_t{1} << (line & 63);
+  }
   busy_until_ = kUnknown;
-  if (index < 64) busy_mask_ |= uint64_t{1} << index;
   m.waiters.clear();
   const FetchTag* up = r.tag;
   m.tag->stream = up ? up->stream : Stream::kNode;

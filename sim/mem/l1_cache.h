@@ -70,7 +70,10 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
   tlm::tlm_initiator_socket<>& downstream() override { return initiator_socket; }
   // The downstream's next decision (the DRAM). Without one, the downstream must answer every
   // read at once (TLM_COMPLETED).
-  void set_downstream_horizon(const MemoryHorizon* h) override { downstream_horizon_ = h; }
+  void set_downstream_horizon(const MemoryHorizon* h) override {
+    downstream_horizon_ = h;
+    downstream_word_ = h ? h->horizon_word() : &kNeverWord;
+  }
   // The target bound to initiator_socket, if it takes reads by direct call and answers them so
   // (the DRAM); nullptr: through the socket.
   void set_downstream_direct(DirectTarget* d) { downstream_direct_ = d; }
@@ -87,6 +90,7 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
   // The cycle of the first lookup not decided yet (the initiator must not run past it), or
   // never.
   uint64_t horizon_ps() const override { return horizon_ps_; }
+  const uint64_t* horizon_word() const override { return &horizon_ps_; }
   bool reports_changes() const override { return true; }
   // A module is never a const object: the horizon view hands out the module to drive.
   CallDriven* call_driven() const override { return const_cast<L1Cache*>(this); }
@@ -108,12 +112,12 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
       *answer_cycle = t;
       return true;
     }
-    return (this->*read_cycle_)(trans, tag, t, answer_cycle);
+    return read_cycle_(*this, trans, tag, t, answer_cycle);
   }
   // read_cycle() of a read the caller knows to be valid: a READ of bytes within one line.
   bool read_line_cycle(tlm::tlm_generic_payload& trans, const FetchTag* tag, uint64_t t,
                        uint64_t* answer_cycle) {
-    return (this->*read_cycle_)(trans, tag, t, answer_cycle);
+    return read_cycle_(*this, trans, tag, t, answer_cycle);
   }
   uint64_t clock_period_ps() const { return period_ps_; }
   // A fill by direct call (the MSHRs' reads name the cache as reply_to when they go by direct
@@ -145,17 +149,19 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
                                      sc_core::sc_time& delay);
   // Decides queued lookups, oldest first, while they are decidable; answers them. One indirect
   // call into advance_as<the tags' cache type>, whose lookups call its access() inline.
-  void advance() { (this->*advance_)(); }
+  void advance() { advance_(*this); }
   template <class Cache>
   void advance_as();
   // Latest time (ps) up to which every fill is known: our unknown fills complete after the
   // downstream's next decision; our future reads are sent after the lookups still to decide.
-  uint64_t decidable_ps() const {
-    return std::max(now_ps(), downstream_horizon_ ? downstream_horizon_->horizon_ps() : kNever);
-  }
+  uint64_t decidable_ps() const { return std::max(now_ps(), downstream_horizon()); }
   // at_ps <= decidable_ps(), the kernel's time asked only if the downstream's horizon is before.
   bool decidable_at(uint64_t at_ps) const {
-    return !downstream_horizon_ || at_ps <= downstream_horizon_->horizon_ps() || at_ps <= now_ps();
+    return at_ps <= downstream_horizon() || at_ps <= now_ps();
+  }
+  // The downstream's horizon (kNever without one), from its horizon word if it has one.
+  uint64_t downstream_horizon() const {
+    return downstream_word_ ? *downstream_word_ : downstream_horizon_->horizon_ps();
   }
   // A read of one line: else the error response set.
   bool valid_read(tlm::tlm_generic_payload& trans) {
@@ -218,14 +224,19 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
   L1Params p_;
   SetAssocCache tags_;
   void* tag_cache_ = nullptr;  // tags_'s concrete cache, as read_cycle_ knows its type
-  bool (L1Cache::*read_cycle_)(tlm::tlm_generic_payload&, const FetchTag*, uint64_t,
-                               uint64_t*) = nullptr;
-  void (L1Cache::*advance_)() = nullptr;  // advance_as<tags_'s concrete cache>
+  // read_cycle_as and advance_as<tags_'s concrete cache>, as plain function pointers (a call
+  // through a member function pointer tests and adjusts it first).
+  bool (*read_cycle_)(L1Cache&, tlm::tlm_generic_payload&, const FetchTag*, uint64_t,
+                      uint64_t*) = nullptr;
+  void (*advance_)(L1Cache&) = nullptr;
   uint32_t offset_bits_;
   uint64_t line_bytes_;
   uint64_t period_ps_;
   FastDivider cycles_;  // picoseconds to cycles
   const MemoryHorizon* downstream_horizon_ = nullptr;
+  // downstream_horizon_'s horizon word; kNeverWord without a downstream horizon; nullptr: ask it.
+  static constexpr uint64_t kNeverWord = kNever;
+  const uint64_t* downstream_word_ = &kNeverWord;
   DirectTarget* downstream_direct_ = nullptr;
   std::vector<Mshr> mshrs_;
   // Per MSHR, in arrays a lookup scans without a branch per MSHR: its line, and the cycle it is
@@ -236,6 +247,9 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
   // cleared by a lookup at or after the fill; lookups come in rising cycles and a fill is never
   // before the next lookup, so a cleared MSHR stays free until allocated again).
   uint64_t busy_mask_ = 0;
+  // With busy_mask_: a bit per line number mod 64 of the MSHRs in busy_mask_ (a superset, set at
+  // allocation, recomputed when the mask shrinks). A line whose bit is clear merges with none.
+  uint64_t busy_lines_ = 0;
   // Requests not looked up yet, in arrival order: queue_[queue_head_ ..]. A vector taken from
   // the front (a std::deque's push and pop are calls): emptied whenever the last is taken, and
   // its taken front dropped when it is most of it.

@@ -86,6 +86,9 @@ class MemoryHorizon {
   virtual ~MemoryHorizon() = default;
   // Earliest absolute time (ps) at which this component acts on its own; kNever if idle.
   virtual uint64_t horizon_ps() const = 0;
+  // Where the component keeps its horizon, always equal to horizon_ps() (read without a call),
+  // or nullptr if it computes it when asked.
+  virtual const uint64_t* horizon_word() const { return nullptr; }
   // The component as CallDriven, or nullptr if only its own process may act (then an
   // initiator must let the kernel reach the horizon).
   virtual CallDriven* call_driven() const { return nullptr; }

@@ -59,12 +59,6 @@ void TraversalUnit::set_direct_targets(L1Cache* node, DirectTarget* data) {
   data_direct_ = data;
 }
 
-uint64_t TraversalUnit::horizon() const {
-  uint64_t h = MemoryHorizon::kNever;
-  for (const MemoryHorizon* m : horizons_) h = std::min(h, m->horizon_ps());
-  return h;
-}
-
 void TraversalUnit::run() {
   for (;;) {
     // A batch posted before the first sc_start() notifies before this thread waits: check.
@@ -80,6 +74,7 @@ template <class Decoder>
 void TraversalUnit::run_batch() {
   const uint64_t t0 = cycle_at_or_after(now_ps());
   last_cycle_ = t0;
+  const bool vcd = vcd_ != nullptr;  // in a register: the loop's stores may alias vcd_
   // When every memory component can be driven by call, the unit acts for them at their
   // horizons and the kernel only catches up at the end of the batch.
   bool by_call = !horizons_.empty();
@@ -131,7 +126,7 @@ void TraversalUnit::run_batch() {
     }
     ++events_processed_;
     process<Decoder>(slots_[slot], slot, t);
-    if (vcd_) trace(t);
+    if (vcd) [[unlikely]] trace(t);
   }
   // The kernel catches up with the unit: the batch ends at its last event.
   if (by_call)
@@ -413,6 +408,10 @@ void TraversalUnit::arrived(tlm::tlm_generic_payload& trans, uint64_t at_ps) {
   Slot& s = slots_[slot];
   s.ready = std::max(s.ready, cycle_at_or_after(at_ps));
   if (--s.pending == 0 && !s.issuing) queue_.push_arrival(s.ready, slot);
+}
+
+void TraversalUnit::answered(tlm::tlm_generic_payload& trans, uint64_t at_ps) {
+  arrived(trans, at_ps);
 }
 
 void TraversalUnit::write_stats(Stats& stats) const {

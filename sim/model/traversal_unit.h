@@ -26,6 +26,7 @@
 // mem_protocol.h), not through the socket: the same decisions without sc_time arithmetic per
 // request.
 #pragma once
+#include <algorithm>
 #include <cstdint>
 #include <deque>
 #include <string>
@@ -67,6 +68,10 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
   // changes keeps a pointer to the unit's flag: it must not act once the unit is destroyed.
   void add_horizon(const MemoryHorizon* h) {
     horizons_.push_back(h);
+    if (const uint64_t* w = h->horizon_word())
+      horizon_words_.push_back(w);
+    else
+      horizons_asked_.push_back(h);
     if (h->reports_changes())
       h->watch(&horizon_moved_);
     else
@@ -77,7 +82,7 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
   void set_direct_targets(L1Cache* node, DirectTarget* data);
 
   // An answer by direct call (the unit's reads by direct call name the unit as reply_to).
-  void answered(tlm::tlm_generic_payload& trans, uint64_t at_ps) override { arrived(trans, at_ps); }
+  void answered(tlm::tlm_generic_payload& trans, uint64_t at_ps) override;
 
   uint64_t steps() const { return steps_; }
   void write_stats(Stats& stats) const;  // unit.*
@@ -136,13 +141,20 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
   [[gnu::always_inline]] inline void issue_node(uint32_t slot, uint64_t cycle);
   tlm::tlm_sync_enum nb_transport_bw(tlm::tlm_generic_payload& trans, tlm::tlm_phase& phase,
                                      sc_core::sc_time& delay);
-  void arrived(tlm::tlm_generic_payload& trans, uint64_t at_ps);
+  // Inline in answered() (one per answer by direct call).
+  [[gnu::always_inline]] inline void arrived(tlm::tlm_generic_payload& trans, uint64_t at_ps);
   // Throws unless the memory answered TLM_OK_RESPONSE.
   static void check_response(const tlm::tlm_generic_payload& trans) {
     if (trans.get_response_status() != tlm::TLM_OK_RESPONSE) [[unlikely]] memory_error(trans);
   }
   [[noreturn, gnu::cold]] static void memory_error(const tlm::tlm_generic_payload& trans);
-  uint64_t horizon() const;
+  // Inline: asked at every move of a horizon, from the run loop.
+  [[gnu::always_inline]] uint64_t horizon() const {
+    uint64_t h = MemoryHorizon::kNever;
+    for (const uint64_t* w : horizon_words_) h = std::min(h, *w);
+    for (const MemoryHorizon* m : horizons_asked_) h = std::min(h, m->horizon_ps());
+    return h;
+  }
   uint64_t cycle_at_or_after(uint64_t t_ps) const { return cycles_.div_up(t_ps); }
   void trace(uint64_t cycle);  // samples the VCD variables, if any
 
@@ -153,6 +165,9 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
   const MemoryImage& image_;
   HostInterface& host_;
   std::vector<const MemoryHorizon*> horizons_;
+  // horizons_ split: those read from their horizon words, those asked by call.
+  std::vector<const uint64_t*> horizon_words_;
+  std::vector<const MemoryHorizon*> horizons_asked_;
   // Every horizon reports its changes (MemoryHorizon::reports_changes): the unit keeps the
   // last one it computed until a component sets horizon_moved_.
   bool horizons_report_ = true;

@@ -41,6 +41,7 @@ class UnitQueue {
     before_push(cycle);
     if (cycle >= now_arrival_ + kWheelCycles) {
       far_arrival_.push(cycle << kSlotBits | slot);
+      far_next_ = std::min(far_next_, cycle);
       return;
     }
     const uint64_t b = cycle & (kWheelCycles - 1);
@@ -69,6 +70,7 @@ class UnitQueue {
     before_push(cycle);
     if (cycle >= now_event_ + kWheelCycles) {
       far_event_.push(cycle << kSlotBits | slot);
+      far_next_ = std::min(far_next_, cycle);
       return;
     }
     const uint64_t b = cycle & (kWheelCycles - 1);
@@ -94,7 +96,9 @@ class UnitQueue {
     const uint64_t b = c & (kWheelCycles - 1);
     Bucket& k = buckets_[b];
     uint32_t slot;
-    if (!far_arrival_.empty() && (far_arrival_.top() >> kSlotBits) == c) [[unlikely]] {
+    // A far entry of this cycle (rare): the far heaps' tops are checked.
+    if (far_next_ == c && !far_arrival_.empty() && (far_arrival_.top() >> kSlotBits) == c)
+        [[unlikely]] {
       slot = take_far(far_arrival_);
       arrival = true;
       now_arrival_ = c;
@@ -107,7 +111,8 @@ class UnitQueue {
       arrival = true;
       now_arrival_ = c;
     } else {
-      if (!far_event_.empty() && (far_event_.top() >> kSlotBits) == c) [[unlikely]] {
+      if (far_next_ == c && !far_event_.empty() && (far_event_.top() >> kSlotBits) == c)
+          [[unlikely]] {
         slot = take_far(far_event_);
         arrival = false;
         now_event_ = c;
@@ -120,8 +125,14 @@ class UnitQueue {
       now_event_ = c;
     }
     if (k.arrival_head == kNone && k.event_head == kNone) {
-      nonempty_[b / 64] &= ~(uint64_t{1} << (b % 64));
-      next_ = find_next();  // a far entry of this cycle, if any, included
+      uint64_t& word = nonempty_[b / 64];
+      word &= ~(uint64_t{1} << (b % 64));
+      // The next marked bucket of this word if any (the common case), else the scan; a far
+      // entry of this cycle, if any, included.
+      const uint64_t later = word & (~uint64_t{0} << (b % 64));
+      next_ = later ? std::min(c - b % 64 + static_cast<uint64_t>(std::countr_zero(later)),
+                               far_next_)
+                    : find_next();
     } else {
       next_ = c;
     }
@@ -145,17 +156,17 @@ class UnitQueue {
                            " behind the last one taken, " + std::to_string(now_));
   }
   [[gnu::always_inline]] void mark(uint64_t b) { nonempty_[b / 64] |= uint64_t{1} << (b % 64); }
-  static uint32_t take_far(FarHeap& far) {
+  uint32_t take_far(FarHeap& far) {
     const uint64_t key = far.top();
     far.pop();
+    far_next_ = kEmpty;
+    if (!far_arrival_.empty()) far_next_ = far_arrival_.top() >> kSlotBits;
+    if (!far_event_.empty()) far_next_ = std::min(far_next_, far_event_.top() >> kSlotBits);
     return static_cast<uint32_t>(key & ((uint64_t{1} << kSlotBits) - 1));
   }
   // The cycle of the next entry, the wheel's or a far one (all ones: none).
   uint64_t find_next() const {
-    uint64_t far = kEmpty;
-    if (!far_arrival_.empty()) far = far_arrival_.top() >> kSlotBits;
-    if (!far_event_.empty()) far = std::min(far, far_event_.top() >> kSlotBits);
-    return std::min(next_wheel_cycle(), far);
+    return std::min(next_wheel_cycle(), far_next_);
   }
   // First non-empty bucket from now_, as a cycle (all wheel entries are in [now_, now_ + W):
   // each kind's last cycle taken is at or before now_).
@@ -165,6 +176,7 @@ class UnitQueue {
   std::vector<Bucket> buckets_;
   std::vector<uint64_t> nonempty_;
   FarHeap far_arrival_, far_event_;
+  uint64_t far_next_ = kEmpty;  // the earliest cycle in either far heap (all ones: none)
   static constexpr uint64_t kEmpty = ~uint64_t{0};
   uint64_t now_ = 0;                             // cycle of the last entry taken
   uint64_t now_arrival_ = 0, now_event_ = 0;     // of the last of each kind taken

@@ -39,6 +39,7 @@ class Dram final : public sc_core::sc_module, public MemoryHorizon, public CallD
   SC_HAS_PROCESS(Dram);
 
   uint64_t horizon_ps() const override { return horizon_ps_; }
+  const uint64_t* horizon_word() const override { return &horizon_ps_; }
   bool reports_changes() const override { return true; }
   // A module is never a const object: the horizon view hands out the module to drive.
   CallDriven* call_driven() const override { return const_cast<Dram*>(this); }
