@@ -337,7 +337,11 @@ tlm::tlm_sync_enum L1Cache::nb_transport_bw(tlm::tlm_generic_payload& trans,
 }
 
 void L1Cache::answered(tlm::tlm_generic_payload& trans, uint64_t at_ps) {
-  const size_t index = trans.get_extension<FetchTag>()->owner;
+  // One of the MSHRs' payloads (their reads name the cache as reply_to): its index from its
+  // address, no extension lookup (a library call).
+  const size_t index = static_cast<size_t>(reinterpret_cast<const char*>(&trans) -
+                                           reinterpret_cast<const char*>(&mshrs_[0].payload)) /
+                       sizeof(Mshr);
   Mshr& m = mshrs_[index];
   fill(index, at_ps);
   for (const Request& w : m.waiters) respond(*w.trans, w.tag, mshr_fill_[index]);
@@ -347,14 +351,21 @@ void L1Cache::answered(tlm::tlm_generic_payload& trans, uint64_t at_ps) {
 
 void L1Cache::fill(size_t m, uint64_t done_ps) {
   // One fill per cycle: the first cycle at or after the completion that no known fill holds.
-  uint64_t c = cycles_.div_up(done_ps);
+  // The latest fill cycle among the other MSHRs is found in the same scan.
+  uint64_t c = cycles_.div_up(done_ps), latest = 0;
+  const uint64_t* const fills = mshr_fill_.data();
+  const size_t n = mshr_fill_.size();
   for (bool taken = true; taken;) {
     taken = false;
-    for (size_t o = 0; o < mshr_fill_.size(); ++o)
-      if (o != m && mshr_fill_[o] == c) {
+    latest = 0;
+    for (size_t o = 0; o < n; ++o) {
+      if (o == m) continue;
+      if (fills[o] == c) {
         ++c;
         taken = true;
       }
+      latest = std::max(latest, fills[o]);
+    }
   }
   // The decidability rule (l1_cache.h) guarantees lookups never run ahead of a fill.
   if (c < next_lookup_)
@@ -363,8 +374,7 @@ void L1Cache::fill(size_t m, uint64_t done_ps) {
                            std::to_string(next_lookup_ - 1) + " (the downstream decided late)");
   mshr_fill_[m] = c;
   stalled_ = false;
-  busy_until_ = 0;
-  for (const uint64_t f : mshr_fill_) busy_until_ = std::max(busy_until_, f);
+  busy_until_ = std::max(latest, c);
   ++fills_;
   miss_latency_cycles_ += c - mshrs_[m].request_cycle;
 }
