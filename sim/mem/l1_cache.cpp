@@ -73,13 +73,17 @@ tlm::tlm_sync_enum L1Cache::nb_transport_fw(tlm::tlm_generic_payload& trans,
 }
 
 bool L1Cache::read_at(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t* done_ps) {
+  return read_tagged_at(trans, trans.get_extension<FetchTag>(), at_ps, done_ps);
+}
+
+bool L1Cache::read_tagged_at(tlm::tlm_generic_payload& trans, const FetchTag* tag,
+                             uint64_t at_ps, uint64_t* done_ps) {
   uint64_t answer = 0;
   if (!valid_read(trans)) {
     *done_ps = at_ps;
     return true;
   }
-  if (!read_cycle_(*this, trans, trans.get_extension<FetchTag>(), cycles_.div_up(at_ps),
-                   &answer))
+  if (!read_cycle_(*this, trans, tag, cycles_.div_up(at_ps), &answer))
     return false;
   *done_ps = answer * period_ps_;
   return true;
@@ -258,7 +262,7 @@ L1Cache::Outcome L1Cache::primary_miss(const Request& r, size_t index, uint64_t 
   bool completed;
   uint64_t done_ps = read_ps;
   if (downstream_direct_) {
-    completed = downstream_direct_->read_at(m.payload, read_ps, &done_ps);
+    completed = downstream_direct_->read_tagged_at(m.payload, m.tag, read_ps, &done_ps);
   } else {
     tlm::tlm_phase phase = tlm::BEGIN_REQ;
     const uint64_t now = now_ps();

@@ -101,6 +101,8 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
   void act_at_horizon(uint64_t) override { advance(); }
   // The upstream request by direct call (what nb_transport_fw does, in picoseconds).
   bool read_at(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t* done_ps) override;
+  bool read_tagged_at(tlm::tlm_generic_payload& trans, const FetchTag* tag, uint64_t at_ps,
+                      uint64_t* done_ps) override;
   // read_at() for an initiator on the cache's clock, in its cycles: the request at cycle t (at
   // t * clock period); true: completed, *answer_cycle the cycle of its answer. `tag`: the
   // payload's FetchTag (or nullptr if it has none), handed in so the cache need not look it up.
