@@ -121,7 +121,7 @@ bool L1Cache::read_general_as(Cache& tags, tlm::tlm_generic_payload& trans, cons
     // Behind a backlog the front, and so the horizon and the wake-up, stay as they are (driven
     // by call there is no wake-up to renew).
     const bool front = queue_empty();
-    queue_.push_back({&trans, tag, t});
+    queue_push({&trans, tag, t});
     if (front || !driven_by_call_) schedule_wake();
     return false;
   }

@@ -196,7 +196,7 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
       case Outcome::kWaiting:
         return false;
       case Outcome::kBlocked:
-        queue_.push_back({r.trans, r.tag, r.t, c});
+        queue_push({r.trans, r.tag, r.t, c});
         schedule_wake();
         return false;
     }
@@ -257,13 +257,21 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
   // its taken front dropped when it is most of it.
   std::vector<Request> queue_;
   size_t queue_head_ = 0;
-  bool queue_empty() const { return queue_head_ == queue_.size(); }
+  // queue_empty() in one load (a read tests it first): false from a push until the last is
+  // taken.
+  bool backlog_ = false;
+  bool queue_empty() const { return !backlog_; }
+  void queue_push(const Request& r) {
+    queue_.push_back(r);
+    backlog_ = true;
+  }
   Request& queue_front() { return queue_[queue_head_]; }
   const Request& queue_front() const { return queue_[queue_head_]; }
   void queue_pop() {
     if (++queue_head_ == queue_.size()) {
       queue_.clear();
       queue_head_ = 0;
+      backlog_ = false;
       stalled_ = false;
     } else if (queue_head_ >= 1024 && 2 * queue_head_ >= queue_.size()) {
       queue_.erase(queue_.begin(), queue_.begin() + static_cast<std::ptrdiff_t>(queue_head_));
