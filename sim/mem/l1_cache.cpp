@@ -27,6 +27,7 @@ L1Cache::L1Cache(const sc_core::sc_module_name& name, const L1Params& p)
       period_ps_(p.clock_period_ps),
       cycles_(p.clock_period_ps),
       mshrs_(p.mshrs),
+      mshr_count_(p.mshrs),
       mshr_line_(p.mshrs, 0),
       mshr_fill_(p.mshrs, 0) {
   tags_.visit([this](auto& cache) {
@@ -157,7 +158,7 @@ L1Cache::Outcome L1Cache::lookup_as(Cache& tags, const Request& r, uint64_t c,
   const uint64_t line = addr >> offset_bits_;
   // A busy MSHR for the line (a merge; the last such, should there be several) and the lowest
   // free one; none: n.
-  const size_t n = mshrs_.size();
+  const size_t n = mshr_count_;
   size_t match = n, free = n;
   if (c >= busy_until_) {  // none busy (the common case): the first is the lowest free one
     free = 0;

@@ -241,6 +241,7 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
   const uint64_t* downstream_word_ = &kNeverWord;
   DirectTarget* downstream_direct_ = nullptr;
   std::vector<Mshr> mshrs_;
+  size_t mshr_count_;  // mshrs_.size() in one load (Mshr's size is no power of two)
   // Per MSHR, in arrays a lookup scans without a branch per MSHR: its line, and the cycle it is
   // busy until (kUnknown until the downstream answers; busy at c while c < it).
   std::vector<uint64_t> mshr_line_, mshr_fill_;
