@@ -27,6 +27,7 @@ L1Cache::L1Cache(const sc_core::sc_module_name& name, const L1Params& p)
       period_ps_(p.clock_period_ps),
       cycles_(p.clock_period_ps),
       mshrs_(p.mshrs),
+      mshr_count_(p.mshrs),
       mshr_line_(p.mshrs, 0),
       mshr_fill_(p.mshrs, 0) {
   tags_.visit([this](auto& cache) {
@@ -73,13 +74,17 @@ tlm::tlm_sync_enum L1Cache::nb_transport_fw(tlm::tlm_generic_payload& trans,
 }
 
 bool L1Cache::read_at(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t* done_ps) {
+  return read_tagged_at(trans, trans.get_extension<FetchTag>(), at_ps, done_ps);
+}
+
+bool L1Cache::read_tagged_at(tlm::tlm_generic_payload& trans, const FetchTag* tag,
+                             uint64_t at_ps, uint64_t* done_ps) {
   uint64_t answer = 0;
   if (!valid_read(trans)) {
     *done_ps = at_ps;
     return true;
   }
-  if (!read_cycle_(*this, trans, trans.get_extension<FetchTag>(), cycles_.div_up(at_ps),
-                   &answer))
+  if (!read_cycle_(*this, trans, tag, cycles_.div_up(at_ps), &answer))
     return false;
   *done_ps = answer * period_ps_;
   return true;
@@ -117,7 +122,7 @@ bool L1Cache::read_general_as(Cache& tags, tlm::tlm_generic_payload& trans, cons
     // Behind a backlog the front, and so the horizon and the wake-up, stay as they are (driven
     // by call there is no wake-up to renew).
     const bool front = queue_empty();
-    queue_.push_back({&trans, tag, t});
+    queue_push({&trans, tag, t});
     if (front || !driven_by_call_) schedule_wake();
     return false;
   }
@@ -153,7 +158,7 @@ L1Cache::Outcome L1Cache::lookup_as(Cache& tags, const Request& r, uint64_t c,
   const uint64_t line = addr >> offset_bits_;
   // A busy MSHR for the line (a merge; the last such, should there be several) and the lowest
   // free one; none: n.
-  const size_t n = mshrs_.size();
+  const size_t n = mshr_count_;
   size_t match = n, free = n;
   if (c >= busy_until_) {  // none busy (the common case): the first is the lowest free one
     free = 0;
@@ -258,7 +263,7 @@ L1Cache::Outcome L1Cache::primary_miss(const Request& r, size_t index, uint64_t 
   bool completed;
   uint64_t done_ps = read_ps;
   if (downstream_direct_) {
-    completed = downstream_direct_->read_at(m.payload, read_ps, &done_ps);
+    completed = downstream_direct_->read_tagged_at(m.payload, m.tag, read_ps, &done_ps);
   } else {
     tlm::tlm_phase phase = tlm::BEGIN_REQ;
     const uint64_t now = now_ps();
@@ -337,7 +342,11 @@ tlm::tlm_sync_enum L1Cache::nb_transport_bw(tlm::tlm_generic_payload& trans,
 }
 
 void L1Cache::answered(tlm::tlm_generic_payload& trans, uint64_t at_ps) {
-  const size_t index = trans.get_extension<FetchTag>()->owner;
+  // One of the MSHRs' payloads (their reads name the cache as reply_to): its index from its
+  // address, no extension lookup (a library call).
+  const size_t index = static_cast<size_t>(reinterpret_cast<const char*>(&trans) -
+                                           reinterpret_cast<const char*>(&mshrs_[0].payload)) /
+                       sizeof(Mshr);
   Mshr& m = mshrs_[index];
   fill(index, at_ps);
   for (const Request& w : m.waiters) respond(*w.trans, w.tag, mshr_fill_[index]);
@@ -347,14 +356,21 @@ void L1Cache::answered(tlm::tlm_generic_payload& trans, uint64_t at_ps) {
 
 void L1Cache::fill(size_t m, uint64_t done_ps) {
   // One fill per cycle: the first cycle at or after the completion that no known fill holds.
-  uint64_t c = cycles_.div_up(done_ps);
+  // The latest fill cycle among the other MSHRs is found in the same scan.
+  uint64_t c = cycles_.div_up(done_ps), latest = 0;
+  const uint64_t* const fills = mshr_fill_.data();
+  const size_t n = mshr_fill_.size();
   for (bool taken = true; taken;) {
     taken = false;
-    for (size_t o = 0; o < mshr_fill_.size(); ++o)
-      if (o != m && mshr_fill_[o] == c) {
+    latest = 0;
+    for (size_t o = 0; o < n; ++o) {
+      if (o == m) continue;
+      if (fills[o] == c) {
         ++c;
         taken = true;
       }
+      latest = std::max(latest, fills[o]);
+    }
   }
   // The decidability rule (l1_cache.h) guarantees lookups never run ahead of a fill.
   if (c < next_lookup_)
@@ -363,8 +379,7 @@ void L1Cache::fill(size_t m, uint64_t done_ps) {
                            std::to_string(next_lookup_ - 1) + " (the downstream decided late)");
   mshr_fill_[m] = c;
   stalled_ = false;
-  busy_until_ = 0;
-  for (const uint64_t f : mshr_fill_) busy_until_ = std::max(busy_until_, f);
+  busy_until_ = std::max(latest, c);
   ++fills_;
   miss_latency_cycles_ += c - mshrs_[m].request_cycle;
 }

@@ -101,6 +101,8 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
   void act_at_horizon(uint64_t) override { advance(); }
   // The upstream request by direct call (what nb_transport_fw does, in picoseconds).
   bool read_at(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t* done_ps) override;
+  bool read_tagged_at(tlm::tlm_generic_payload& trans, const FetchTag* tag, uint64_t at_ps,
+                      uint64_t* done_ps) override;
   // read_at() for an initiator on the cache's clock, in its cycles: the request at cycle t (at
   // t * clock period); true: completed, *answer_cycle the cycle of its answer. `tag`: the
   // payload's FetchTag (or nullptr if it has none), handed in so the cache need not look it up.
@@ -194,7 +196,7 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
       case Outcome::kWaiting:
         return false;
       case Outcome::kBlocked:
-        queue_.push_back({r.trans, r.tag, r.t, c});
+        queue_push({r.trans, r.tag, r.t, c});
         schedule_wake();
         return false;
     }
@@ -239,6 +241,7 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
   const uint64_t* downstream_word_ = &kNeverWord;
   DirectTarget* downstream_direct_ = nullptr;
   std::vector<Mshr> mshrs_;
+  size_t mshr_count_;  // mshrs_.size() in one load (Mshr's size is no power of two)
   // Per MSHR, in arrays a lookup scans without a branch per MSHR: its line, and the cycle it is
   // busy until (kUnknown until the downstream answers; busy at c while c < it).
   std::vector<uint64_t> mshr_line_, mshr_fill_;
@@ -255,13 +258,21 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
   // its taken front dropped when it is most of it.
   std::vector<Request> queue_;
   size_t queue_head_ = 0;
-  bool queue_empty() const { return queue_head_ == queue_.size(); }
+  // queue_empty() in one load (a read tests it first): false from a push until the last is
+  // taken.
+  bool backlog_ = false;
+  bool queue_empty() const { return !backlog_; }
+  void queue_push(const Request& r) {
+    queue_.push_back(r);
+    backlog_ = true;
+  }
   Request& queue_front() { return queue_[queue_head_]; }
   const Request& queue_front() const { return queue_[queue_head_]; }
   void queue_pop() {
     if (++queue_head_ == queue_.size()) {
       queue_.clear();
       queue_head_ = 0;
+      backlog_ = false;
       stalled_ = false;
     } else if (queue_head_ >= 1024 && 2 * queue_head_ >= queue_.size()) {
       queue_.erase(queue_.begin(), queue_.begin() + static_cast<std::ptrdiff_t>(queue_head_));

@@ -66,6 +66,13 @@ class DirectTarget {
   // A read at absolute time `at_ps` (at or after the kernel's time). True: completed at once
   // (the response status set; *done_ps its time); false: answered later (reply_to or BEGIN_RESP).
   virtual bool read_at(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t* done_ps) = 0;
+  // read_at() of a payload whose FetchTag (nullptr: none) the caller hands in, so the target
+  // need not look it up (get_extension() is a library call).
+  virtual bool read_tagged_at(tlm::tlm_generic_payload& trans, const FetchTag* tag,
+                              uint64_t at_ps, uint64_t* done_ps) {
+    (void)tag;
+    return read_at(trans, at_ps, done_ps);
+  }
 };
 
 // An initiator that also takes answers by direct call: what its nb_transport_bw does with

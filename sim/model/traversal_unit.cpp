@@ -372,8 +372,8 @@ void TraversalUnit::issue(uint32_t slot, size_t first, size_t last, uint64_t t) 
       if (direct) {
         uint64_t done_ps = 0;
         // The node L1 called as an L1Cache: no virtual call on the hot path.
-        if (node ? node_direct_->read_at(*p, at_ps, &done_ps)
-                 : direct->read_at(*p, at_ps, &done_ps))
+        if (node ? node_direct_->read_tagged_at(*p, tag, at_ps, &done_ps)
+                 : direct->read_tagged_at(*p, tag, at_ps, &done_ps))
           completed(s, p, cycle_at_or_after(done_ps));
       } else {
         tlm::tlm_phase phase = tlm::BEGIN_REQ;

@@ -39,9 +39,8 @@ class UnitQueue {
   // Schedules slot's arrival at `cycle` (>= the cycle of the last pop).
   [[gnu::always_inline]] void push_arrival(uint64_t cycle, uint32_t slot) {
     before_push(cycle);
-    if (cycle >= now_arrival_ + kWheelCycles) {
-      far_arrival_.push(cycle << kSlotBits | slot);
-      far_next_ = std::min(far_next_, cycle);
+    if (cycle >= now_arrival_ + kWheelCycles) [[unlikely]] {
+      push_far(far_arrival_, cycle, slot);
       return;
     }
     const uint64_t b = cycle & (kWheelCycles - 1);
@@ -68,9 +67,8 @@ class UnitQueue {
   // Schedules slot's event at `cycle` (>= the cycle of the last pop).
   [[gnu::always_inline]] void push_event(uint64_t cycle, uint32_t slot) {
     before_push(cycle);
-    if (cycle >= now_event_ + kWheelCycles) {
-      far_event_.push(cycle << kSlotBits | slot);
-      far_next_ = std::min(far_next_, cycle);
+    if (cycle >= now_event_ + kWheelCycles) [[unlikely]] {
+      push_far(far_event_, cycle, slot);
       return;
     }
     const uint64_t b = cycle & (kWheelCycles - 1);
@@ -156,6 +154,12 @@ class UnitQueue {
                            " behind the last one taken, " + std::to_string(now_));
   }
   [[gnu::always_inline]] void mark(uint64_t b) { nonempty_[b / 64] |= uint64_t{1} << (b % 64); }
+  // An entry kWheelCycles or more ahead of the last of its kind taken (rare; out of line, so
+  // the inline pushes need no heap code).
+  [[gnu::noinline, gnu::cold]] void push_far(FarHeap& far, uint64_t cycle, uint32_t slot) {
+    far.push(cycle << kSlotBits | slot);
+    far_next_ = std::min(far_next_, cycle);
+  }
   uint32_t take_far(FarHeap& far) {
     const uint64_t key = far.top();
     far.pop();

@@ -31,13 +31,13 @@ tlm::tlm_sync_enum Dram::nb_transport_fw(int id, tlm::tlm_generic_payload& trans
   return tlm::TLM_UPDATED;
 }
 
-bool Dram::read_at(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t* done_ps) {
+bool Dram::read_tagged_at(tlm::tlm_generic_payload& trans, const FetchTag* tag, uint64_t at_ps,
+                          uint64_t* done_ps) {
   if (trans.get_command() != tlm::TLM_READ_COMMAND) {
     trans.set_response_status(tlm::TLM_COMMAND_ERROR_RESPONSE);
     *done_ps = at_ps;
     return true;
   }
-  const FetchTag* tag = trans.get_extension<FetchTag>();
   if (!tag || !tag->reply_to)
     throw std::logic_error("DRAM read_at: the payload names no initiator to answer");
   accept(trans, tag, -1, tag->reply_to, at_ps);

@@ -50,7 +50,11 @@ class Dram final : public sc_core::sc_module, public MemoryHorizon, public CallD
   void act_at_horizon(uint64_t at_ps) override { decide_at(at_ps); }
   // A read by direct call (what nb_transport_fw does, in picoseconds): always answered later,
   // by direct call to the payload's FetchTag::reply_to, which it must name.
-  bool read_at(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t* done_ps) override;
+  bool read_at(tlm::tlm_generic_payload& trans, uint64_t at_ps, uint64_t* done_ps) override {
+    return read_tagged_at(trans, trans.get_extension<FetchTag>(), at_ps, done_ps);
+  }
+  bool read_tagged_at(tlm::tlm_generic_payload& trans, const FetchTag* tag, uint64_t at_ps,
+                      uint64_t* done_ps) override;
   const DramBackend& backend() const { return *backend_; }
 
  private:
