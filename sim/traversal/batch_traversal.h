@@ -34,11 +34,13 @@ struct SharedLanes {  // an order-free sink: every lane reports to it as it goes
   Sink& sink;
   Sink& lane(int) { return sink; }
 };
+#if defined(__AVX512F__)  // RayPacket exists only there
 struct BufferedLanes {  // any other sink: each lane's fetches kept until its turn
   static constexpr bool kDropsFetches = false;
   FetchList buffers[RayPacket::kLanes];
   FetchList& lane(int i) { return buffers[i]; }
 };
+#endif
 
 // Ends ray `i` at the sink, if it takes ends.
 template <class Sink>
