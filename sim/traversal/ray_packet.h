@@ -96,12 +96,6 @@ class RayPacket {
         lanes.lane(__builtin_ctz(m)).fetch(Stream::kNode, node, image.node_bytes);
   }
 
-  // Lane i's leaf_step() up to its pop: the leaf's list (if any) and triangles fetched and
-  // tested by the single-ray code (leaf_triangles_chunked() or leaf_triangles_scalar()'s loop).
-  // True when the lane is done (any-hit mode).
-  template <class Sink>
-  bool lane_triangles(const MemoryImage& image, const NodeView& n, int i, Sink& sink);
-
   // Tests a leaf's triangles for every lane in `active` (their intervals end at t_max_); lanes
   // that finish here leave the live mask.
   template <class Lanes>
@@ -119,31 +113,6 @@ class RayPacket {
   Stats stats_;
 };
 
-template <class Sink>
-bool RayPacket::lane_triangles(const MemoryImage& image, const NodeView& n, int i, Sink& sink) {
-  const bool any_hit = any_hit_ >> i & 1u;
-  if (n.prim_count >= 2) sink.fetch(Stream::kList, n.list_addr, n.prim_count * 4u);
-  if (n.prim_count >= detail::kChunkMinPrims && image.bytes.size() <= 0x7fffffffu) {
-    const detail::LeafOutcome o = detail::leaf_triangles_chunked(wray_[i], hits_[i], ray_t_max_[i],
-                                                                 any_hit, image, n, sink);
-    hits_[i] = o.hit;
-    return o.done;
-  }
-  for (uint32_t k = 0; k < n.prim_count; ++k) {
-    const uint32_t tri = detail::leaf_triangle(image, n, k);
-    const uint64_t ta = image.triangle_addr(tri);
-    sink.fetch(Stream::kTriangle, ta, MemoryImage::kTriangleBytes);
-    const detail::PackedFloats v{image.bytes.data() + ta};
-    if (detail::record_hit(hits_[i], ray_t_max_[i], tri,
-                           [&](float t_limit, float& t, float& bu, float& bv) {
-                             return intersect_watertight(wray_[i], v, t_limit, t, bu, bv);
-                           }) &&
-        any_hit)
-      return true;
-  }
-  return false;
-}
-
 template <class Lanes>
 void RayPacket::leaf(const MemoryImage& image, const NodeView& n, __mmask16 active,
                      Lanes& lanes) {
@@ -155,7 +124,10 @@ void RayPacket::leaf(const MemoryImage& image, const NodeView& n, __mmask16 acti
   }
   for (uint32_t m = active; m != 0; m &= m - 1) {
     const int i = __builtin_ctz(m);
-    const bool done = lane_triangles(image, n, i, lanes.lane(i));
+    // leaf_step() up to its pop, with the single-ray code.
+    const bool done = detail::leaf_triangles(wray_[i], hits_[i], ray_t_max_[i],
+                                             (any_hit_ >> i & 1u) != 0, image, n, lanes.lane(i))
+                          .done;
     hit_t_[i] = hits_[i].t;
     // As leaf_step(): finished when the hit lies inside the leaf's interval, or (any-hit) found.
     if (done || hits_[i].t <= t_max_[i]) live_ &= ~(1u << i);

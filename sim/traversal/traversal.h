@@ -255,26 +255,41 @@ template <class Test>
   return tri;
 }
 
-// Tests a leaf's triangles one by one, each fetched (reported) just before its test. Sets
-// leaf_prims_tested; true when the ray is done (any-hit mode).
+// What a leaf's triangles leave besides the hit: how many were tested, whether the ray is done
+// (any-hit mode).
+struct LeafTested {
+  uint32_t tested;
+  bool done;
+};
+
+// Tests a leaf's triangles one by one against `hit` (a ray's parts: its watertight form, hit so
+// far, own t_max, any-hit mode), each fetched (reported) just before its test.
 template <class Sink>
-[[gnu::always_inline]] inline bool leaf_triangles_scalar(TraversalState& s,
-                                                         const MemoryImage& image,
-                                                         const NodeView& n, Sink& sink) {
+[[gnu::always_inline]] inline LeafTested leaf_triangles_loop(const WatertightRay& wray, Hit& hit,
+                                                             float ray_t_max, bool any_hit,
+                                                             const MemoryImage& image,
+                                                             const NodeView& n, Sink& sink) {
   for (uint32_t i = 0; i < n.prim_count; ++i) {
     const uint32_t tri = leaf_triangle(image, n, i);
     const uint64_t ta = image.triangle_addr(tri);
     sink.fetch(Stream::kTriangle, ta, MemoryImage::kTriangleBytes);
     const PackedFloats v{image.bytes.data() + ta};
-    if (record_hit(s.hit, s.ray.t_max, tri, [&](float t_limit, float& t, float& bu, float& bv) {
-          return intersect_watertight(s.wray, v, t_limit, t, bu, bv);
-        }) && s.any_hit) {
-      s.leaf_prims_tested = i + 1;
-      return true;
-    }
+    if (record_hit(hit, ray_t_max, tri, [&](float t_limit, float& t, float& bu, float& bv) {
+          return intersect_watertight(wray, v, t_limit, t, bu, bv);
+        }) && any_hit)
+      return {i + 1, true};
   }
-  s.leaf_prims_tested = n.prim_count;
-  return false;
+  return {n.prim_count, false};
+}
+
+// The loop above on ray `s`: sets leaf_prims_tested; true when the ray is done (any-hit mode).
+template <class Sink>
+[[gnu::always_inline]] inline bool leaf_triangles_scalar(TraversalState& s,
+                                                         const MemoryImage& image,
+                                                         const NodeView& n, Sink& sink) {
+  const LeafTested o = leaf_triangles_loop(s.wray, s.hit, s.ray.t_max, s.any_hit, image, n, sink);
+  s.leaf_prims_tested = o.tested;
+  return o.done;
 }
 
 #if defined(__AVX512F__)
@@ -330,26 +345,35 @@ template <class Sink>
 }
 #endif
 
+// A leaf's list (if any) and triangles, fetched and tested against `hit` (a ray's parts, as in
+// leaf_triangles_loop()): 16 at a time in large leaves where AVX-512 is there, else one by one.
+// Shared by the single-ray step and the packets' lanes.
+template <class Sink>
+[[gnu::always_inline]] inline LeafTested leaf_triangles(const WatertightRay& wray, Hit& hit,
+                                                        float ray_t_max, bool any_hit,
+                                                        const MemoryImage& image,
+                                                        const NodeView& n, Sink& sink) {
+  if (n.prim_count >= 2) sink.fetch(Stream::kList, n.list_addr, n.prim_count * 4u);
+#if defined(__AVX512F__)
+  // Rare per step (half the leaves are empty, most others hold one or two triangles).
+  if (n.prim_count >= kChunkMinPrims && image.bytes.size() <= 0x7fffffffu) [[unlikely]] {
+    const LeafOutcome o = leaf_triangles_chunked(wray, hit, ray_t_max, any_hit, image, n, sink);
+    hit = o.hit;
+    return {o.tested, o.done};
+  }
+#endif
+  return leaf_triangles_loop(wray, hit, ray_t_max, any_hit, image, n, sink);
+}
+
 // A leaf's step: fetches its list (if any) and triangles, tests each, then pops or finishes.
 template <class Sink>
 [[gnu::always_inline]] inline void leaf_step(TraversalState& s, const MemoryImage& image,
                                              const NodeView& n, Sink& sink) {
-  if (n.prim_count >= 2) sink.fetch(Stream::kList, n.list_addr, n.prim_count * 4u);
-  bool done;
-#if defined(__AVX512F__)
-  // Rare per step (half the leaves are empty, most others hold one or two triangles).
-  if (n.prim_count >= kChunkMinPrims && image.bytes.size() <= 0x7fffffffu) [[unlikely]] {
-    const LeafOutcome o =
-        leaf_triangles_chunked(s.wray, s.hit, s.ray.t_max, s.any_hit, image, n, sink);
-    s.hit = o.hit;
-    s.leaf_prims_tested = o.tested;
-    done = o.done;
-  } else
-#endif
-    done = leaf_triangles_scalar(s, image, n, sink);
+  const LeafTested o = leaf_triangles(s.wray, s.hit, s.ray.t_max, s.any_hit, image, n, sink);
+  s.leaf_prims_tested = o.tested;
   // The ray is finished in this leaf when its hit lies inside the leaf's interval, or (any-hit)
   // when it found one.
-  if (done || s.hit.t <= s.t_max || !traversal_pop(s)) s.done = true;
+  if (o.done || s.hit.t <= s.t_max || !traversal_pop(s)) s.done = true;
 }
 }  // namespace detail
 
