@@ -353,13 +353,13 @@ void TraversalUnit::issue(uint32_t slot, size_t first, size_t last, uint64_t t) 
       const uint64_t line_start = lines.div(a) * line;
       const uint64_t end = std::min<uint64_t>(f.addr + f.bytes, line_start + line);
       UnitPayload* p;
-      if (free_payloads_.empty()) {
+      if (!free_payloads_) {
         p = &payloads_.emplace_back();
         p->tag = new FetchTag;
         p->set_extension(p->tag);
       } else {
-        p = free_payloads_.back();
-        free_payloads_.pop_back();
+        p = free_payloads_;
+        free_payloads_ = p->next_free;
       }
       FetchTag* tag = p->tag;
       tag->stream = f.stream;
@@ -404,7 +404,7 @@ void TraversalUnit::arrived(tlm::tlm_generic_payload& trans, uint64_t at_ps) {
   check_response(trans);
   UnitPayload& p = static_cast<UnitPayload&>(trans);  // ours: sent by issue()
   const uint32_t slot = p.tag->owner;
-  if (p.pooled) free_payloads_.push_back(&p);
+  if (p.pooled) free_payload(&p);
   Slot& s = slots_[slot];
   s.ready = std::max(s.ready, cycle_at_or_after(at_ps));
   if (--s.pending == 0 && !s.issuing) queue_.push_arrival(s.ready, slot);

@@ -196,10 +196,17 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
   // memory side returns the very payload the unit sent).
   struct UnitPayload : tlm::tlm_generic_payload {
     FetchTag* tag = nullptr;  // owned by the payload as its extension
-    bool pooled = true;       // in free_payloads_ when not in flight; else a slot's own
+    bool pooled = true;       // in the free list when not in flight; else a slot's own
+    UnitPayload* next_free = nullptr;  // the free list's next, while in it
   };
   std::deque<UnitPayload> payloads_;
-  std::vector<UnitPayload*> free_payloads_;
+  // The pooled payloads not in flight, last freed first: a list through next_free (freeing one
+  // is two stores, no vector growth to keep out of the answer path).
+  UnitPayload* free_payloads_ = nullptr;
+  void free_payload(UnitPayload* p) {
+    p->next_free = free_payloads_;
+    free_payloads_ = p;
+  }
   // Per slot, its payload for issue_node()'s one-line node read (a slot has at most one node
   // read in flight): command, length and tag set once, the address per read.
   std::deque<UnitPayload> node_payloads_;
@@ -207,7 +214,7 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
   // does, its payload free again at once.
   [[gnu::always_inline]] void completed(Slot& s, UnitPayload* p, uint64_t ready) {
     check_response(*p);
-    if (p->pooled) free_payloads_.push_back(p);
+    if (p->pooled) free_payload(p);
     s.ready = std::max(s.ready, ready);
     --s.pending;
   }
