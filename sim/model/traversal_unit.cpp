@@ -193,7 +193,22 @@ void TraversalUnit::book_step(uint32_t slot, uint64_t t) {
     push(slot, t);
     return;
   }
-  uint64_t c = t;
+  // A free cycle in t's own word (the common case) is before t + 64, inside the window.
+  uint64_t& word = step_calendar_[(t / 64) % kWords];
+  const uint64_t free_bits = ~word & (~uint64_t{0} << (t % 64));
+  if (!free_bits) [[unlikely]] {
+    book_step_beyond(slot, t);
+    return;
+  }
+  const uint64_t c = t / 64 * 64 + static_cast<uint64_t>(std::countr_zero(free_bits));
+  word |= uint64_t{1} << (c % 64);
+  slots_[slot].phase = Phase::kStep;
+  push(slot, c);
+}
+
+void TraversalUnit::book_step_beyond(uint32_t slot, uint64_t t) {
+  constexpr uint64_t kWords = kCalendarCycles / 64;
+  uint64_t c = t / 64 * 64 + 64;
   for (;;) {
     uint64_t& word = step_calendar_[(c / 64) % kWords];
     const uint64_t free_bits = ~word & (~uint64_t{0} << (c % 64));

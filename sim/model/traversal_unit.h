@@ -127,6 +127,8 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
   // schedule_step: a call; book_step: inline (an arrival's, in the hot loop).
   void schedule_step(uint32_t slot, uint64_t cycle);
   [[gnu::always_inline]] inline void book_step(uint32_t slot, uint64_t cycle);
+  // book_step() when the word of `cycle` has no free cycle from it on: from the next word.
+  [[gnu::noinline]] void book_step_beyond(uint32_t slot, uint64_t cycle);
   // Clears the bookings of the words of cycles that have passed (the events being processed are
   // at or after last_cycle_).
   [[gnu::cold]] void forget_bookings();
