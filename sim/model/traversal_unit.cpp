@@ -203,7 +203,7 @@ void TraversalUnit::book_step(uint32_t slot, uint64_t t) {
   const uint64_t c = t / 64 * 64 + static_cast<uint64_t>(std::countr_zero(free_bits));
   word |= uint64_t{1} << (c % 64);
   slots_[slot].phase = Phase::kStep;
-  push(slot, c);
+  push_ahead(slot, c);  // c >= t >= the event being processed
 }
 
 void TraversalUnit::book_step_beyond(uint32_t slot, uint64_t t) {
@@ -251,7 +251,7 @@ void TraversalUnit::data_ready(uint32_t slot, uint64_t ready) {
       book_step(slot, decided);
     } else {
       s.phase = Phase::kLeafBody;
-      push(slot, decided);
+      push_ahead(slot, decided);
     }
     return;
   }
@@ -347,7 +347,7 @@ void TraversalUnit::issue_node(uint32_t slot, uint64_t t) {
   uint64_t done = 0;
   if (node_direct_->read_line_cycle(*p, p->tag, t, &done)) completed(s, p, done);
   s.issuing = false;
-  if (s.pending == 0) queue_.push_arrival(s.ready, slot);
+  if (s.pending == 0) queue_.push_arrival<false>(s.ready, slot);  // >= t
 }
 
 void TraversalUnit::issue(uint32_t slot, size_t first, size_t last, uint64_t t) {

@@ -135,6 +135,10 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
   // All data the slot waited for is there at `cycle` (inline: one per arrival, in the hot loop).
   [[gnu::always_inline]] inline void data_ready(uint32_t slot, uint64_t cycle);
   [[gnu::always_inline]] void push(uint32_t slot, uint64_t cycle) { queue_.push_event(cycle, slot); }
+  // push() at a cycle known to be at or after the event being processed (untested).
+  [[gnu::always_inline]] void push_ahead(uint32_t slot, uint64_t cycle) {
+    queue_.push_event<false>(cycle, slot);
+  }
   // Issues fetches [first, last) of the slot's step at `cycle`; schedules the slot when all
   // are in.
   void issue(uint32_t slot, size_t first, size_t last, uint64_t cycle);
