@@ -135,7 +135,10 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
   // All data the slot waited for is there at `cycle` (inline: one per arrival, in the hot loop).
   [[gnu::always_inline]] inline void data_ready(uint32_t slot, uint64_t cycle);
   [[gnu::always_inline]] void push(uint32_t slot, uint64_t cycle) { queue_.push_event(cycle, slot); }
-  // push() at a cycle known to be at or after the event being processed (untested).
+  // push() at a cycle known to be at or after the event being processed (untested): a node
+  // read's data cycle, an arrival's decided cycle, or a booking's, whose ready cycle is the
+  // event's own, later (an arrival's decided cycle, a leaf's lanes end) or a batch's start (at
+  // or after the previous batch's last event).
   [[gnu::always_inline]] void push_ahead(uint32_t slot, uint64_t cycle) {
     queue_.push_event<false>(cycle, slot);
   }
