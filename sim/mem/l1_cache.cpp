@@ -98,17 +98,22 @@ bool L1Cache::read_cycle_as(tlm::tlm_generic_payload& trans, const FetchTag* tag
   Cache& tags = *static_cast<Cache*>(tag_cache_);
   if (!queue_empty() || !decidable_at(c * period_ps_))
     return read_general_as(tags, trans, tag, t, answer_cycle);
-  // Decidable now, nothing queued: what read_general_as() does in this case.
-  const Request r{&trans, tag, t};
-  if (c < busy_until_) return settle(lookup_as(tags, r, c, answer_cycle), r, c);
+  // Decidable now, nothing queued: what read_general_as() does in this case (the request
+  // record built only where a call takes it).
+  if (c < busy_until_) {
+    const Request r{&trans, tag, t};
+    return settle(lookup_as(tags, r, c, answer_cycle), r, c);
+  }
   // No MSHR busy: no merge, and the first MSHR is the lowest free one (what lookup() does in
   // this case).
   next_lookup_ = c + 1;
   if (tags.access(addr)) {
     ++hits_;
     *answer_cycle = c + p_.hit_cycles;
-    return settle(Outcome::kAnswered, r, c);
+    trans.set_response_status(tlm::TLM_OK_RESPONSE);  // settle(kAnswered)
+    return true;
   }
+  const Request r{&trans, tag, t};
   return settle(primary_miss(r, 0, addr >> offset_bits_, c, answer_cycle), r, c);
 }
 

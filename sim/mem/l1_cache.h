@@ -253,29 +253,33 @@ class L1Cache final : public sc_core::sc_module, public NodeL1, public MemoryHor
   // With busy_mask_: a bit per line number mod 64 of the MSHRs in busy_mask_ (a superset, set at
   // allocation, recomputed when the mask shrinks). A line whose bit is clear merges with none.
   uint64_t busy_lines_ = 0;
-  // Requests not looked up yet, in arrival order: queue_[queue_head_ ..]. A vector taken from
-  // the front (a std::deque's push and pop are calls): emptied whenever the last is taken, and
-  // its taken front dropped when it is most of it.
+  // Requests not looked up yet, in arrival order: queue_[queue_head_ .. queue_end_). An array
+  // taken from the front (a std::deque's push and pop are calls; a vector's push_back is one
+  // too, for its growth): emptied whenever the last is taken, its taken front dropped when it
+  // is most of it, grown out of line when full.
   std::vector<Request> queue_;
-  size_t queue_head_ = 0;
+  size_t queue_head_ = 0, queue_end_ = 0;
   // queue_empty() in one load (a read tests it first): false from a push until the last is
   // taken.
   bool backlog_ = false;
   bool queue_empty() const { return !backlog_; }
   void queue_push(const Request& r) {
-    queue_.push_back(r);
+    if (queue_end_ == queue_.size()) [[unlikely]] queue_grow();
+    queue_[queue_end_++] = r;
     backlog_ = true;
   }
+  [[gnu::noinline, gnu::cold]] void queue_grow() { queue_.resize(2 * queue_.size() + 16); }
   Request& queue_front() { return queue_[queue_head_]; }
   const Request& queue_front() const { return queue_[queue_head_]; }
   void queue_pop() {
-    if (++queue_head_ == queue_.size()) {
-      queue_.clear();
-      queue_head_ = 0;
+    if (++queue_head_ == queue_end_) {
+      queue_head_ = queue_end_ = 0;
       backlog_ = false;
       stalled_ = false;
-    } else if (queue_head_ >= 1024 && 2 * queue_head_ >= queue_.size()) {
-      queue_.erase(queue_.begin(), queue_.begin() + static_cast<std::ptrdiff_t>(queue_head_));
+    } else if (queue_head_ >= 1024 && 2 * queue_head_ >= queue_end_) {
+      std::copy(queue_.begin() + static_cast<std::ptrdiff_t>(queue_head_),
+                queue_.begin() + static_cast<std::ptrdiff_t>(queue_end_), queue_.begin());
+      queue_end_ -= queue_head_;
       queue_head_ = 0;
     }
   }

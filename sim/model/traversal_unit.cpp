@@ -193,7 +193,22 @@ void TraversalUnit::book_step(uint32_t slot, uint64_t t) {
     push(slot, t);
     return;
   }
-  uint64_t c = t;
+  // A free cycle in t's own word (the common case) is before t + 64, inside the window.
+  uint64_t& word = step_calendar_[(t / 64) % kWords];
+  const uint64_t free_bits = ~word & (~uint64_t{0} << (t % 64));
+  if (!free_bits) [[unlikely]] {
+    book_step_beyond(slot, t);
+    return;
+  }
+  const uint64_t c = t / 64 * 64 + static_cast<uint64_t>(std::countr_zero(free_bits));
+  word |= uint64_t{1} << (c % 64);
+  slots_[slot].phase = Phase::kStep;
+  push_ahead(slot, c);  // c >= t >= the event being processed
+}
+
+void TraversalUnit::book_step_beyond(uint32_t slot, uint64_t t) {
+  constexpr uint64_t kWords = kCalendarCycles / 64;
+  uint64_t c = t / 64 * 64 + 64;
   for (;;) {
     uint64_t& word = step_calendar_[(c / 64) % kWords];
     const uint64_t free_bits = ~word & (~uint64_t{0} << (c % 64));
@@ -236,7 +251,7 @@ void TraversalUnit::data_ready(uint32_t slot, uint64_t ready) {
       book_step(slot, decided);
     } else {
       s.phase = Phase::kLeafBody;
-      push(slot, decided);
+      push_ahead(slot, decided);
     }
     return;
   }
@@ -332,7 +347,7 @@ void TraversalUnit::issue_node(uint32_t slot, uint64_t t) {
   uint64_t done = 0;
   if (node_direct_->read_line_cycle(*p, p->tag, t, &done)) completed(s, p, done);
   s.issuing = false;
-  if (s.pending == 0) queue_.push_arrival(s.ready, slot);
+  if (s.pending == 0) queue_.push_arrival<false>(s.ready, slot);  // >= t
 }
 
 void TraversalUnit::issue(uint32_t slot, size_t first, size_t last, uint64_t t) {
@@ -353,13 +368,13 @@ void TraversalUnit::issue(uint32_t slot, size_t first, size_t last, uint64_t t) 
       const uint64_t line_start = lines.div(a) * line;
       const uint64_t end = std::min<uint64_t>(f.addr + f.bytes, line_start + line);
       UnitPayload* p;
-      if (free_payloads_.empty()) {
+      if (!free_payloads_) {
         p = &payloads_.emplace_back();
         p->tag = new FetchTag;
         p->set_extension(p->tag);
       } else {
-        p = free_payloads_.back();
-        free_payloads_.pop_back();
+        p = free_payloads_;
+        free_payloads_ = p->next_free;
       }
       FetchTag* tag = p->tag;
       tag->stream = f.stream;
@@ -404,7 +419,7 @@ void TraversalUnit::arrived(tlm::tlm_generic_payload& trans, uint64_t at_ps) {
   check_response(trans);
   UnitPayload& p = static_cast<UnitPayload&>(trans);  // ours: sent by issue()
   const uint32_t slot = p.tag->owner;
-  if (p.pooled) free_payloads_.push_back(&p);
+  if (p.pooled) free_payload(&p);
   Slot& s = slots_[slot];
   s.ready = std::max(s.ready, cycle_at_or_after(at_ps));
   if (--s.pending == 0 && !s.issuing) queue_.push_arrival(s.ready, slot);

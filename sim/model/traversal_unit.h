@@ -127,12 +127,21 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
   // schedule_step: a call; book_step: inline (an arrival's, in the hot loop).
   void schedule_step(uint32_t slot, uint64_t cycle);
   [[gnu::always_inline]] inline void book_step(uint32_t slot, uint64_t cycle);
+  // book_step() when the word of `cycle` has no free cycle from it on: from the next word.
+  [[gnu::noinline]] void book_step_beyond(uint32_t slot, uint64_t cycle);
   // Clears the bookings of the words of cycles that have passed (the events being processed are
   // at or after last_cycle_).
   [[gnu::cold]] void forget_bookings();
   // All data the slot waited for is there at `cycle` (inline: one per arrival, in the hot loop).
   [[gnu::always_inline]] inline void data_ready(uint32_t slot, uint64_t cycle);
   [[gnu::always_inline]] void push(uint32_t slot, uint64_t cycle) { queue_.push_event(cycle, slot); }
+  // push() at a cycle known to be at or after the event being processed (untested): a node
+  // read's data cycle, an arrival's decided cycle, or a booking's, whose ready cycle is the
+  // event's own, later (an arrival's decided cycle, a leaf's lanes end) or a batch's start (at
+  // or after the previous batch's last event).
+  [[gnu::always_inline]] void push_ahead(uint32_t slot, uint64_t cycle) {
+    queue_.push_event<false>(cycle, slot);
+  }
   // Issues fetches [first, last) of the slot's step at `cycle`; schedules the slot when all
   // are in.
   void issue(uint32_t slot, size_t first, size_t last, uint64_t cycle);
@@ -196,10 +205,17 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
   // memory side returns the very payload the unit sent).
   struct UnitPayload : tlm::tlm_generic_payload {
     FetchTag* tag = nullptr;  // owned by the payload as its extension
-    bool pooled = true;       // in free_payloads_ when not in flight; else a slot's own
+    bool pooled = true;       // in the free list when not in flight; else a slot's own
+    UnitPayload* next_free = nullptr;  // the free list's next, while in it
   };
   std::deque<UnitPayload> payloads_;
-  std::vector<UnitPayload*> free_payloads_;
+  // The pooled payloads not in flight, last freed first: a list through next_free (freeing one
+  // is two stores, no vector growth to keep out of the answer path).
+  UnitPayload* free_payloads_ = nullptr;
+  void free_payload(UnitPayload* p) {
+    p->next_free = free_payloads_;
+    free_payloads_ = p;
+  }
   // Per slot, its payload for issue_node()'s one-line node read (a slot has at most one node
   // read in flight): command, length and tag set once, the address per read.
   std::deque<UnitPayload> node_payloads_;
@@ -207,7 +223,7 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
   // does, its payload free again at once.
   [[gnu::always_inline]] void completed(Slot& s, UnitPayload* p, uint64_t ready) {
     check_response(*p);
-    if (p->pooled) free_payloads_.push_back(p);
+    if (p->pooled) free_payload(p);
     s.ready = std::max(s.ready, ready);
     --s.pending;
   }

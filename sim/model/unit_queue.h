@@ -36,9 +36,11 @@ class UnitQueue {
   bool empty() const { return next_ == kEmpty; }
 
   // push_*, top_cycle and pop are forced inline: one of each per unit event, in its hot loop.
-  // Schedules slot's arrival at `cycle` (>= the cycle of the last pop).
+  // Schedules slot's arrival at `cycle` (>= the cycle of the last pop; kChecked false: the
+  // caller knows it is, and it is not tested).
+  template <bool kChecked = true>
   [[gnu::always_inline]] void push_arrival(uint64_t cycle, uint32_t slot) {
-    before_push(cycle);
+    before_push<kChecked>(cycle);
     if (cycle >= now_arrival_ + kWheelCycles) [[unlikely]] {
       push_far(far_arrival_, cycle, slot);
       return;
@@ -64,9 +66,10 @@ class UnitQueue {
     }
   }
 
-  // Schedules slot's event at `cycle` (>= the cycle of the last pop).
+  // Schedules slot's event at `cycle` (>= the cycle of the last pop; kChecked: as above).
+  template <bool kChecked = true>
   [[gnu::always_inline]] void push_event(uint64_t cycle, uint32_t slot) {
-    before_push(cycle);
+    before_push<kChecked>(cycle);
     if (cycle >= now_event_ + kWheelCycles) [[unlikely]] {
       push_far(far_event_, cycle, slot);
       return;
@@ -144,9 +147,10 @@ class UnitQueue {
   };
   using FarHeap = std::priority_queue<uint64_t, std::vector<uint64_t>, std::greater<uint64_t>>;
 
+  template <bool kChecked>
   [[gnu::always_inline]] void before_push(uint64_t cycle) {
     // Every wheel entry must lie in [now_, now_ + kWheelCycles) for the buckets to order them.
-    if (cycle < now_) [[unlikely]] behind(cycle);
+    if (kChecked && cycle < now_) [[unlikely]] behind(cycle);
     next_ = std::min(next_, cycle);
   }
   [[noreturn, gnu::cold]] void behind(uint64_t cycle) const {

@@ -78,19 +78,23 @@ void Dram::decide() {
 }
 
 void Dram::decide_at(uint64_t at_ps) {
-  const uint64_t now = now_ps();
   done_.clear();
   backend_->advance(at_ps, done_);
-  // The earliest completion after each answer, so the horizon covers those not answered yet.
-  later_done_ps_.resize(done_.size());
-  for (size_t i = done_.size(), earliest = kNever; i-- > 0;) {
-    later_done_ps_[i] = earliest;
-    earliest = std::min<uint64_t>(earliest, done_[i].done_ps);
+  // The earliest completion after each answer, so the horizon covers those not answered yet
+  // (none after the last: with one decision, the common case, nothing to find).
+  const size_t n = done_.size();
+  if (n > 1) {
+    later_done_ps_.resize(n);
+    for (size_t i = n, earliest = kNever; i-- > 0;) {
+      later_done_ps_[i] = earliest;
+      earliest = std::min<uint64_t>(earliest, done_[i].done_ps);
+    }
   }
-  for (size_t i = 0; i < done_.size(); ++i) {
+  for (size_t i = 0; i < n; ++i) {
     const DramCompletion& c = done_[i];
     // Every completion comes after its decision time, so this is at or after at_ps.
-    unanswered_ps_ = later_done_ps_[i] == kNever ? kNever : later_done_ps_[i] - 1;
+    const uint64_t later = i + 1 == n ? kNever : later_done_ps_[i];
+    unanswered_ps_ = later == kNever ? kNever : later - 1;
     update_horizon();
     const Pending p = pending_[c.id];
     free_ids_.push_back(c.id);
@@ -100,7 +104,7 @@ void Dram::decide_at(uint64_t at_ps) {
       continue;
     }
     tlm::tlm_phase phase = tlm::BEGIN_RESP;
-    sc_core::sc_time delay = ps(c.done_ps - now);
+    sc_core::sc_time delay = ps(c.done_ps - now_ps());
     target_socket[p.socket_id]->nb_transport_bw(*p.trans, phase, delay);  // END_RESP implied
   }
   unanswered_ps_ = kNever;

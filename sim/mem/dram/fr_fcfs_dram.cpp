@@ -1,7 +1,6 @@
 #include "mem/dram/fr_fcfs_dram.h"
 
 #include <algorithm>
-#include <tuple>
 
 #include "util/stats.h"
 
@@ -15,14 +14,37 @@ FrFcfsDram::FrFcfsDram(const DramParams& p)
   bank_ = FastDivider(p.banks);
   burst_ = FastDivider(p.burst_bytes());
   channels_.resize(p.channels);
-  for (Channel& c : channels_) c.banks.resize(p.banks);
+  for (Channel& c : channels_) {
+    c.banks.resize(p.banks);
+    c.waiting.resize(p.banks, 0);
+    c.seen.resize(p.banks, 0);
+  }
 }
 
 void FrFcfsDram::enqueue(const DramRequest& r) {
   const Location loc = locate(r.addr);
   Channel& c = channels_[loc.channel];
-  c.queue.push_back({r, loc, seq_++});
-  next_decision_ps_ = std::min(next_decision_ps_, eligible_at(c, c.queue.back()));
+  uint32_t e;
+  if (c.free.empty()) {
+    e = static_cast<uint32_t>(c.pool.size());
+    c.pool.emplace_back();
+  } else {
+    e = c.free.back();
+    c.free.pop_back();
+  }
+  Queued& q = c.pool[e];
+  q.req = r;
+  q.loc = loc;
+  q.seq = seq_++;
+  // In age order; requests mostly come in arrival order, so the place is found from the back.
+  uint32_t before = c.tail;  // q goes after it (kNil: first)
+  while (before != kNil && older(q, c.pool[before])) before = c.pool[before].prev;
+  q.prev = before;
+  q.next = before == kNil ? c.head : c.pool[before].next;
+  (before == kNil ? c.head : c.pool[before].next) = e;
+  (q.next == kNil ? c.tail : c.pool[q.next].prev) = e;
+  if (c.waiting[loc.bank]++ == 0) ++c.banks_waiting;
+  next_decision_ps_ = std::min(next_decision_ps_, eligible_at(c, q));
 }
 
 void FrFcfsDram::advance(uint64_t now_ps, std::vector<DramCompletion>& out) {
@@ -32,33 +54,51 @@ void FrFcfsDram::advance(uint64_t now_ps, std::vector<DramCompletion>& out) {
     for (;;) {
       // FR-FCFS over the requests that can start now: row hits first, then age. Equal arrival
       // times go by address, so the order in which initiators happened to enqueue them (an
-      // artefact of the simulation, not of the hardware) does not matter.
-      auto age = [](const Queued& x) { return std::tie(x.req.arrival_ps, x.req.addr, x.seq); };
-      int best = -1;
-      bool best_hit = false;
-      const Queued* best_q = nullptr;  // c.queue[best]
-      uint64_t later = kNever;  // the earliest time a request not eligible now becomes so
-      for (size_t i = 0; i < c.queue.size(); ++i) {
-        const Queued& q = c.queue[i];
-        const uint64_t at = eligible_at(c, q);
-        if (at > now_ps) {
-          later = std::min(later, at);
+      // artefact of the simulation, not of the hardware) does not matter. The queue is in age
+      // order: the first eligible row hit is the choice, else the first eligible request.
+      // With none eligible, the channel's next decision is the earliest time one becomes so:
+      // per bank, that of its oldest request (the bank's ready time is the same for all), so
+      // the scan stops once it has met every bank with requests, or a request arriving after
+      // the earliest time found (all after it arrive later still).
+      ++scan_;
+      const Queued* const pool = c.pool.data();
+      constexpr uint32_t n = kNil;
+      uint32_t best = n, oldest = n;
+      uint64_t later = kNever;
+      uint32_t banks_met = 0;
+      for (uint32_t i = c.head; i != kNil; i = pool[i].next) {
+        const Queued& q = pool[i];
+        const Bank& b = c.banks[q.loc.bank];
+        const uint64_t at = std::max(q.req.arrival_ps, b.ready_ps);
+        if (at <= now_ps) {
+          if (b.open_row == q.loc.row) {
+            best = i;
+            break;
+          }
+          if (oldest == n) oldest = i;
           continue;
         }
-        const bool hit = c.banks[q.loc.bank].open_row == q.loc.row;
-        if (best < 0 || (hit && !best_hit) || (hit == best_hit && age(q) < age(*best_q))) {
-          best = static_cast<int>(i);
-          best_hit = hit;
-          best_q = &q;
+        if (oldest != n) {  // one is eligible: only an eligible row hit can still win
+          if (q.req.arrival_ps > now_ps) break;
+          continue;
+        }
+        later = std::min(later, at);
+        if (q.req.arrival_ps >= later) break;
+        if (c.seen[q.loc.bank] != scan_) {
+          c.seen[q.loc.bank] = scan_;
+          if (++banks_met == c.banks_waiting) break;
         }
       }
-      if (best < 0) {  // the channel's next decision: every request left waits
+      if (best == n) best = oldest;
+      if (best == n) {  // the channel's next decision: every request left waits
         next_decision = std::min(next_decision, later);
         break;
       }
-      const Queued q = c.queue[best];
-      c.queue[best] = c.queue.back();
-      c.queue.pop_back();
+      const Queued q = pool[best];
+      (q.prev == kNil ? c.head : c.pool[q.prev].next) = q.next;
+      (q.next == kNil ? c.tail : c.pool[q.next].prev) = q.prev;
+      c.free.push_back(best);
+      if (--c.waiting[q.loc.bank] == 0) --c.banks_waiting;
 
       const uint64_t done = serve(c, c.banks[q.loc.bank], q.loc.row, q.req, eligible_at(c, q));
       out.push_back({q.req.id, done});

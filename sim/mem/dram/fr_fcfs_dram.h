@@ -48,18 +48,34 @@ class FrFcfsDram final : public DramBackend {
 
  private:
   static constexpr uint64_t kNoRow = ~uint64_t{0};
+  static constexpr uint32_t kNil = ~uint32_t{0};
   struct Queued {
     DramRequest req;
     Location loc;
     uint64_t seq;  // enqueue order: the last tie-break (after arrival time, then address)
+    uint32_t prev = kNil, next = kNil;  // the queue's neighbours (Channel::head)
   };
   struct Bank {
     uint64_t open_row = kNoRow;
     uint64_t ready_ps = 0;
   };
+  // A request's age: (arrival, address, seq), a total order (seq is unique).
+  static bool older(const Queued& a, const Queued& b) {
+    if (a.req.arrival_ps != b.req.arrival_ps) return a.req.arrival_ps < b.req.arrival_ps;
+    if (a.req.addr != b.req.addr) return a.req.addr < b.req.addr;
+    return a.seq < b.seq;
+  }
   struct Channel {
-    std::vector<Queued> queue;  // unordered; picked by (row hit, arrival, address, seq)
+    // The queue, oldest first (older()), a list threaded through `pool` from `head` (a pool
+    // entry not in it is in `free`); picked by (row hit, age).
+    std::vector<Queued> pool;
+    std::vector<uint32_t> free;
+    uint32_t head = kNil, tail = kNil;
     std::vector<Bank> banks;
+    // Per bank: its requests in the queue, and the scan that last met one of them (scan_).
+    std::vector<uint32_t> waiting;
+    std::vector<uint64_t> seen;
+    uint32_t banks_waiting = 0;  // banks with a request in the queue
     uint64_t bus_free_ps = 0;
   };
 
@@ -77,6 +93,7 @@ class FrFcfsDram final : public DramBackend {
   std::vector<Channel> channels_;
   uint64_t next_decision_ps_ = kNever;
   uint64_t seq_ = 0;
+  uint64_t scan_ = 0;  // scans made (Channel::seen)
   uint64_t row_hits_ = 0, row_misses_ = 0, row_conflicts_ = 0;
   uint64_t busy_until_ps_ = 0;
 };
