@@ -34,7 +34,7 @@ TimedEngine::TimedEngine(const MemoryImage& image, const CycleParams& timing,
       slots_(static_cast<size_t>(rays_in_flight)),
       events_(make_events(static_cast<uint32_t>(rays_in_flight))),
       lanes_(timing.unit) {
-  if (period_ps_ == 0) throw std::logic_error("timed interleaver: clock period not derived");
+  if (period_ps_ == 0) throw std::logic_error("timed engine: clock period not derived");
   auto l1_timing = [](L1Timing& t, const L1Params& p) {
     t.hit_cycles = p.hit_cycles;
     t.line_size = FastDivider(p.cache.line_bytes);
@@ -82,7 +82,7 @@ uint64_t TimedEngine::l1_miss(L1Timing& l1, uint64_t line, Stream s, uint64_t c)
 
 template <class Sink>
 uint64_t TimedEngine::send(Slot& slot, const RayStepLog::Fetch& f, uint64_t t, Sink& sink,
-                                const FetchCache& caches) {
+                           const FetchCache& caches) {
   const Stream stream = f.stream();
   // The access itself (the caches' state and counts) charges the ray the DRAM bytes it caused.
   if (f.bytes == 0) {
@@ -116,7 +116,7 @@ uint64_t TimedEngine::send(Slot& slot, const RayStepLog::Fetch& f, uint64_t t, S
 
 template <class Sink>
 uint64_t TimedEngine::send_node(Slot& slot, const RayStepLog::Fetch& f, uint64_t t,
-                                     Sink& sink, const FetchCache& caches) {
+                                Sink& sink, const FetchCache& caches) {
   const uint64_t line = f.addr >> node_line_shift_;
   if (f.bytes == 0 || (f.addr + f.bytes - 1) >> node_line_shift_ != line) [[unlikely]]
     return send(slot, f, t, sink, caches);
@@ -166,7 +166,7 @@ void TimedEngine::close_window(uint64_t t, const FetchCache& caches, const Charg
 }
 
 void TimedEngine::time(const RayStepLog& log, bool last, FetchCache& caches,
-                            const Charge& charge) {
+                       const Charge& charge) {
   caches.with_inlined_node_l1([&](auto& sink) {
     std::visit([&](auto& events) { run(log, last, sink, events, caches, charge); }, events_);
   });
@@ -186,7 +186,7 @@ void TimedEngine::detach_from_log() {
 
 template <class Sink, class Events>
 void TimedEngine::run(const RayStepLog& log, bool last, Sink& sink, Events& events,
-                           FetchCache& caches, const Charge& charge) {
+                      FetchCache& caches, const Charge& charge) {
   size_t next = 0;
   // Starts the log's next ray that takes a step in `slot` at cycle t; false when the log has
   // none left and the batch goes on in the next log.
