@@ -5,7 +5,7 @@ Runs, over the same frame (wavefront order, so the cycle tier's rays in flight m
 layout): the full cycle tier (the reference), the rtl tier (when built for the config's L1),
 the functional tier, the interleaved functional mode (functional.rays_in_flight = the cycle
 tier's sim.rays_in_flight), the same with functional.timed = true (its estimate.cycles is its
-cycles point), sampled runs of each at several rates and methods, and a naive
+cycles point; once with one model, once in 16 runs on every thread), sampled runs of each at several rates and methods, and a naive
 method expected to fail (the cycle tier at half resolution, its counts times four). Each point
 is timed as the median of --repeats runs (trace.seconds: the simulation, without scene load and
 tree build; --cycle-repeats for the sampled cycle-tier and naive points, the rtl tier once). Writes speed_accuracy_<name>.csv and .png: x = speed-up against the reference,
@@ -51,7 +51,10 @@ def ladder(size, rif, rtl):
     pts += [("functional", "functional", [], 1.0),
             (f"interleaved {rif}", "interleaved", [f"functional.rays_in_flight={rif}"], 1.0),
             (f"timed {rif}", "timed interleaved",
-             [f"functional.rays_in_flight={rif}", "functional.timed=true"], 1.0)]
+             [f"functional.rays_in_flight={rif}", "functional.timed=true"], 1.0),
+            (f"timed {rif}, 16 runs", "timed interleaved",
+             [f"functional.rays_in_flight={rif}", "functional.timed=true",
+              "functional.timed_segments=16"], 1.0)]
     for rate in (0.02, 0.05, 0.1, 0.25):
         pts.append((f"functional tiles {rate}", "sampled functional",
                     ["sample.method=tiles", f"sample.rate={rate}"], 1.0))

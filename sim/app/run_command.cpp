@@ -8,6 +8,7 @@
 #include "app/simulation.h"
 #include "image/heatmap.h"
 #include "image/png_writer.h"
+#include "tracer/parallel_render.h"
 #include "util/output_files.h"
 
 namespace rtusim {
@@ -52,8 +53,9 @@ void print_summary(const RunOptions& opts, const std::string& out_dir, const Pre
     std::printf("\n");
   }
   const double secs = r.layouts.front().stats.at("trace.seconds").get<double>();
-  std::printf("  simulated in %.3f s per layout (%.2f Mrays/s of wall time, %s tier, 1 thread)%s\n",
+  std::printf("  simulated in %.3f s per layout (%.2f Mrays/s of wall time, %s tier, --threads %d)%s\n",
               secs, f.rays_total() / std::max(secs, 1e-9) / 1e6, p.config.sim.tier.c_str(),
+              parallel_threads(),
               timed ? "; node GB/s at the frame rate, DRAM GB/s and Mrays/s at the unit's clock" : "");
 }
 

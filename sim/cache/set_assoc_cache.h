@@ -30,6 +30,17 @@ class DynamicPolicy {
   explicit DynamicPolicy(const CacheParams& p)
       : impl_(make_replacement_policy(p.policy, static_cast<uint32_t>(p.sets()), p.assoc,
                                       p.seed)) {}
+  // A copy holds a copy of the same concrete policy (found by its name in the registry).
+  DynamicPolicy(const DynamicPolicy& o)
+      : impl_(ReplacementPolicies::dispatch(
+            o.impl_->name(), [&]<class P>() -> std::unique_ptr<ReplacementPolicy> {
+              return std::make_unique<P>(static_cast<const P&>(*o.impl_));
+            })) {}
+  DynamicPolicy(DynamicPolicy&&) = default;
+  DynamicPolicy& operator=(DynamicPolicy o) {
+    impl_ = std::move(o.impl_);
+    return *this;
+  }
   const char* name() const { return impl_->name(); }
   void touch(uint32_t set, uint32_t way) { impl_->touch(set, way); }
   void fill(uint32_t set, uint32_t way) { impl_->fill(set, way); }

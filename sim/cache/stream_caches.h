@@ -96,6 +96,13 @@ class FetchCache {
   // cache, when on, the list and triangle streams').
   static void write_stats(const Counters& counters, bool data_cache_on, Stats& stats);
   const Counters& counters() const { return counters_; }
+  // Takes the lines (tags and replacement state) of `other`, a cache of the same params, and
+  // `counters` as its counters: a copy that went on elsewhere hands its state back.
+  void take_lines(const FetchCache& other, const Counters& counters) {
+    node_l1_ = other.node_l1_;
+    data_cache_ = other.data_cache_;
+    counters_ = counters;
+  }
 
  private:
   template <class Concrete>

@@ -11,11 +11,14 @@ namespace rtusim {
 
 FunctionalBackend::FunctionalBackend(const MemoryImage& image, const FetchCacheParams& caches,
                                      uint32_t pixels, int rays_in_flight,
-                                     const CycleParams* timing)
+                                     const CycleParams* timing, int timed_segments,
+                                     int timed_warmup_rays)
     : image_(image), caches_(caches), pixel_dram_bytes_(pixels, 0),
       rays_in_flight_(rays_in_flight),
-      timed_(timing ? std::make_unique<TimedInterleaver>(image, *timing, rays_in_flight)
-                    : nullptr) {}
+      timed_(timing ? std::make_unique<TimedInterleaver>(image, *timing, rays_in_flight,
+                                                         timed_segments, timed_warmup_rays)
+                    : nullptr),
+      timed_segments_(timing ? timed_segments : 1) {}
 
 void FunctionalBackend::trace(std::span<const RayRecord> rays, std::span<Hit> hits) {
   if (timed_)

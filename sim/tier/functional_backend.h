@@ -23,8 +23,10 @@ namespace rtusim {
 class FunctionalBackend final : public TraceBackend {
  public:
   // `timing`: the timed mode's params (the cycle tier's, derived); nullptr: untimed.
+  // `timed_segments`, `timed_warmup_rays`: the timed mode's runs (TimedInterleaver).
   FunctionalBackend(const MemoryImage& image, const FetchCacheParams& caches, uint32_t pixels,
-                    int rays_in_flight = 1, const CycleParams* timing = nullptr);
+                    int rays_in_flight = 1, const CycleParams* timing = nullptr,
+                    int timed_segments = 1, int timed_warmup_rays = 256);
   void trace(std::span<const RayRecord> rays, std::span<Hit> hits) override;
   // Replay (parallel tracing) reproduces one ray at a time only: the interleaved and timed
   // modes stay serial.
@@ -39,6 +41,7 @@ class FunctionalBackend final : public TraceBackend {
   int rays_in_flight() const { return rays_in_flight_; }
   // The timed mode's model; nullptr when untimed.
   const TimedInterleaver* timed() const { return timed_.get(); }
+  int timed_segments() const { return timed_segments_; }
 
  private:
   // The interleaved mode's trace (rays_in_flight_ > 1).
@@ -56,6 +59,7 @@ class FunctionalBackend final : public TraceBackend {
   std::vector<uint64_t> pixel_dram_bytes_;
   int rays_in_flight_;
   std::unique_ptr<TimedInterleaver> timed_;
+  int timed_segments_;
 };
 
 }  // namespace rtusim

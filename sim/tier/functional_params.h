@@ -12,6 +12,11 @@ struct FunctionalParams {
   // functional.timed: the rays in flight take turns by a cheap model of the cycle tier's timing
   // (TimedInterleaver, its params the cycle tier's keys), not round-robin; estimates cycles.
   bool timed = false;
+  // functional.timed_segments: the timed mode cuts a batch into up to this many runs of rays,
+  // each timed by its own model on any thread (TimedInterleaver); 1: one model, serial.
+  int timed_segments = 1;
+  // functional.timed_warmup_rays: the rays before each run timed unmeasured to warm it.
+  int timed_warmup_rays = 256;
 };
 
 // Reads functional.*.

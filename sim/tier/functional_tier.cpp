@@ -15,12 +15,24 @@ const BoolParam kTimed("functional.timed", kFunctional.timed,
                        "rays in flight take turns by an approximate model of the cycle tier's "
                        "timing (its sim.*, isect.*, l1.*, dcache.*, dram.* keys) and "
                        "estimate.cycles is reported; false: strict round-robin, no time");
+const IntParam kTimedSegments("functional.timed_segments", kFunctional.timed_segments, 1, 4096,
+                              "runs",
+                              "timed mode: a batch is cut into up to this many runs of rays, "
+                              "each timed by its own model on any thread, warmed by the rays "
+                              "before it (same figures for any thread count; 1: one model)");
+const IntParam kTimedWarmup("functional.timed_warmup_rays", kFunctional.timed_warmup_rays, 1,
+                            1 << 20, "rays",
+                            "timed mode in runs: rays before each run timed unmeasured to warm "
+                            "its model and caches (at least 4 x functional.rays_in_flight; a "
+                            "run has at least 8 times as many)");
 }  // namespace
 
 FunctionalParams read_functional_params(ConfigReader& r) {
   FunctionalParams p;
   p.rays_in_flight = static_cast<int>(kRaysInFlight.read(r));
   p.timed = kTimed.read(r);
+  p.timed_segments = static_cast<int>(kTimedSegments.read(r));
+  p.timed_warmup_rays = static_cast<int>(kTimedWarmup.read(r));
   return p;
 }
 
@@ -31,6 +43,8 @@ void FunctionalTier::write_stats(Stats& stats) const {
     stats.set("functional.rays_in_flight", backend_.rays_in_flight());
   if (backend_.timed()) {
     stats.set("functional.timed", true);
+    if (backend_.timed_segments() > 1)
+      stats.set("functional.timed_segments", backend_.timed_segments());
     backend_.timed()->write_stats(stats);
   }
 }

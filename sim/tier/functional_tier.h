@@ -14,7 +14,8 @@ class FunctionalTier final : public TierRun {
   static constexpr LayoutConcurrency kLayoutConcurrency = LayoutConcurrency::kThreads;
   FunctionalTier(const MemoryImage& image, const TierConfig& config)
       : backend_(image, config.caches, config.pixels, config.functional.rays_in_flight,
-                 config.functional.timed ? &config.cycle : nullptr) {}
+                 config.functional.timed ? &config.cycle : nullptr,
+                 config.functional.timed_segments, config.functional.timed_warmup_rays) {}
 
   TraceBackend& backend() override { return backend_; }
   // traversal.{node,list,triangle}_fetches, the caches' keys (FetchCache::write_stats) and, in

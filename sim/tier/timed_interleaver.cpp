@@ -1,138 +1,58 @@
-// The approximately timed interleaved functional mode (see timed_interleaver.h).
+// The timed interleaved functional mode: one model per batch, or a batch in runs on every thread
+// (see timed_interleaver.h).
 #include "tier/timed_interleaver.h"
 
 #include <algorithm>
-#include <bit>
-#include <stdexcept>
+#include <utility>
+
+#include <oneapi/tbb/parallel_for.h>
 
 #include "layout/layout_dispatch.h"
-#include "mem/dram/dram_backends.h"
 #include "tracer/chunk_pipeline.h"
 #include "util/stats.h"
 
 namespace rtusim {
 
-namespace {
-
-// The event queue for `slots` ray slots: the cheapest that holds them.
-std::variant<SlotEventWheel<1>, SlotEventWheel<2>, SlotEventTree> make_events(uint32_t slots) {
-  if (slots <= SlotEventWheel<1>::kMaxSlots) return SlotEventWheel<1>(slots);
-  if (slots <= SlotEventWheel<2>::kMaxSlots) return SlotEventWheel<2>(slots);
-  return SlotEventTree(slots);
-}
-
-}  // namespace
-
 TimedInterleaver::TimedInterleaver(const MemoryImage& image, const CycleParams& timing,
-                                   int rays_in_flight)
+                                   int rays_in_flight, int segments, int warmup_rays)
     : image_(image),
-      unit_(timing.unit),
-      period_ps_(timing.unit.clock_period_ps),
-      cycles_(period_ps_ ? period_ps_ : 1),
-      data_line_(timing.unit.data_line_bytes),
-      node_line_shift_(std::countr_zero(timing.node_l1.cache.line_bytes)),
-      dram_(make_dram_backend(timing.dram)),
-      fr_fcfs_(dynamic_cast<FrFcfsDram*>(dram_.get())),
-      slots_(static_cast<size_t>(rays_in_flight)),
-      events_(make_events(static_cast<uint32_t>(rays_in_flight))),
-      lanes_(timing.unit) {
-  if (period_ps_ == 0) throw std::logic_error("timed interleaver: clock period not derived");
-  auto l1_timing = [](L1Timing& t, const L1Params& p) {
-    t.hit_cycles = p.hit_cycles;
-    t.line_size = FastDivider(p.cache.line_bytes);
-    t.mshr_line.assign(p.mshrs, ~uint64_t{0});
-    t.mshr_fill.assign(p.mshrs, 0);
-  };
-  l1_timing(node_l1_, timing.node_l1);
-  if (timing.data_cache) {
-    data_cache_ = std::make_unique<L1Timing>();
-    l1_timing(*data_cache_, *timing.data_cache);
-  }
-}
+      timing_(timing),
+      rays_in_flight_(rays_in_flight),
+      segments_(static_cast<size_t>(std::max(segments, 1))),
+      // The rays in flight at a cut must be a steady mix of old and new rays, not a batch's
+      // first rays, all started at once: at least four times as many warming rays.
+      warmup_rays_(std::max<size_t>(static_cast<size_t>(std::max(warmup_rays, 0)),
+                                    4 * static_cast<size_t>(rays_in_flight))),
+      engine_(std::make_unique<TimedEngine>(image, timing, rays_in_flight)) {}
 
 TimedInterleaver::~TimedInterleaver() = default;
 
-uint64_t TimedInterleaver::dram_read(uint64_t addr, uint32_t bytes, Stream s, uint64_t t) {
-  // Decided at once: the queue holds this read only, so it goes when its bank is ready.
-  const DramRequest r{0, addr, bytes, t * period_ps_, s};
-  return cycles_.div_up(fr_fcfs_ ? fr_fcfs_->read_now(r) : dram_->read_now(r));
-}
-
-uint64_t TimedInterleaver::l1_miss(L1Timing& l1, uint64_t line, Stream s, uint64_t c) {
-  // The first free MSHR; with none the port waits for the earliest fill.
-  const size_t mshrs = l1.mshr_fill.size();
-  size_t m = 0;
-  while (m < mshrs && l1.mshr_fill[m] > c) ++m;
-  if (m == mshrs) {
-    m = static_cast<size_t>(std::min_element(l1.mshr_fill.begin(), l1.mshr_fill.end()) -
-                            l1.mshr_fill.begin());
-    l1.stall_cycles += l1.mshr_fill[m] - c;
-    c = l1.mshr_fill[m];
-    l1.port_free = c + 1;
-  }
-  ++l1.primary;
-  l1.mshr_line[m] = line;
-  l1.line_filter = 0;
-  for (const uint64_t l : l1.mshr_line) l1.line_filter |= uint64_t{1} << (l & 63);
-  const uint64_t line_bytes = l1.line_size.divisor();
-  const uint64_t fill = dram_read(line * line_bytes, static_cast<uint32_t>(line_bytes), s,
-                                  c + l1.hit_cycles);
-  l1.mshr_fill[m] = fill;
-  l1.busy_until = std::max(l1.busy_until, fill);
-  return fill;
-}
-
-template <class Sink>
-uint64_t TimedInterleaver::send(Slot& slot, const RayStepLog::Fetch& f, uint64_t t, Sink& sink,
-                                const FetchCache& caches) {
-  const Stream stream = f.stream();
-  // The access itself (the caches' state and counts) charges the ray the DRAM bytes it caused.
-  if (f.bytes == 0) {
-    sink.fetch(stream, f.addr, f.bytes);
-    return t;
-  }
-  const bool node = stream == Stream::kNode;
-  L1Timing* l1 = node ? &node_l1_ : data_cache_.get();
-  const FastDivider& size = l1 ? l1->line_size : data_line_;
-  const uint64_t line_bytes = size.divisor();
-  const uint64_t first = size.div(f.addr), last = size.div(f.addr + f.bytes - 1);
-  uint64_t ready = t;
-  if (!l1) {  // straight to DRAM: one request per line touched, as the unit sends them
-    slot.dram_bytes += sink.fetch_to_dram(stream, f.addr, f.bytes);
-    for (uint64_t line = first; line <= last; ++line)
-      ready = std::max(ready, dram_read(line * line_bytes, static_cast<uint32_t>(line_bytes),
-                                        stream, t));
-    return ready;
-  }
-  if (first == last) {  // one line: it was in the tags when it caused no DRAM bytes
-    const uint64_t bytes = sink.fetch(stream, f.addr, f.bytes);
-    slot.dram_bytes += bytes;
-    return l1_line(*l1, first, bytes == 0, stream, t);
-  }
-  const SetAssocCache& tags = node ? caches.node_l1() : *caches.data_cache();
-  for (uint64_t line = first; line <= last; ++line)
-    ready = std::max(ready, l1_line(*l1, line, tags.contains(line * line_bytes), stream, t));
-  slot.dram_bytes += sink.fetch(stream, f.addr, f.bytes);
-  return ready;
-}
-
-template <class Sink>
-uint64_t TimedInterleaver::send_node(Slot& slot, const RayStepLog::Fetch& f, uint64_t t,
-                                     Sink& sink, const FetchCache& caches) {
-  const uint64_t line = f.addr >> node_line_shift_;
-  if (f.bytes == 0 || (f.addr + f.bytes - 1) >> node_line_shift_ != line) [[unlikely]]
-    return send(slot, f, t, sink, caches);
-  // One line: it was in the tags when it caused no DRAM bytes.
-  const uint64_t bytes = sink.fetch_node_line(f.addr);
-  slot.dram_bytes += bytes;
-  return l1_line(node_l1_, line, bytes == 0, Stream::kNode, t);
+size_t TimedInterleaver::runs(size_t rays) const {
+  // At least 8 W rays a run: the warming costs at most an eighth more.
+  const size_t per_run = std::max<size_t>(8 * warmup_rays_, 1);
+  return std::clamp<size_t>(rays / per_run, 1, segments_);
 }
 
 void TimedInterleaver::trace(std::span<const RayRecord> rays, std::span<Hit> hits,
                              FetchCache& caches, const Charge& charge) {
-  starting_ = 0;
-  batch_start_ = last_cycle_;
-  waiting_ = kNoSlot;
+  const size_t k = runs(rays.size());
+  if (k <= 1)
+    trace_whole(rays, hits, caches, charge);
+  else
+    trace_runs(rays, hits, caches, charge, k);
+}
+
+void TimedInterleaver::add(const TimedEngine::Window& w) {
+  cycles_ += w.cycles;
+  primary_ += w.primary_misses;
+  merged_ += w.merged_misses;
+  stall_cycles_ += w.mshr_stall_cycles;
+  ++runs_;
+}
+
+void TimedInterleaver::trace_whole(std::span<const RayRecord> rays, std::span<Hit> hits,
+                                   FetchCache& caches, const Charge& charge) {
+  engine_->begin_batch(0, /*stop_at_end=*/false);
   // Records rays [begin, begin + n) into `log`, their hits into hits.
   auto record = [&](size_t begin, size_t n, RayStepLog& log) {
     log.clear();
@@ -143,138 +63,91 @@ void TimedInterleaver::trace(std::span<const RayRecord> rays, std::span<Hit> hit
   const size_t chunks = (rays.size() + kRaysPerChunk - 1) / kRaysPerChunk;
   if (chunks <= 1) {
     record(0, rays.size(), log_);
-    time(log_, /*last=*/true, caches, charge);
-    return;
+    engine_->time(log_, /*last=*/true, caches, charge);
+  } else {
+    run_chunks<RayStepLog>(
+        chunks,
+        [&](size_t c, RayStepLog& log) {
+          const size_t begin = c * kRaysPerChunk;
+          record(begin, std::min(kRaysPerChunk, rays.size() - begin), log);
+        },
+        [&](size_t c, RayStepLog& log) {
+          engine_->time(log, c + 1 == chunks, caches, charge);
+        });
   }
-  run_chunks<RayStepLog>(
-      chunks,
-      [&](size_t c, RayStepLog& log) {
-        const size_t begin = c * kRaysPerChunk;
-        record(begin, std::min(kRaysPerChunk, rays.size() - begin), log);
-      },
-      [&](size_t c, RayStepLog& log) { time(log, c + 1 == chunks, caches, charge); });
+  add(engine_->window());
 }
 
-void TimedInterleaver::time(const RayStepLog& log, bool last, FetchCache& caches,
-                            const Charge& charge) {
-  caches.with_inlined_node_l1([&](auto& sink) {
-    std::visit([&](auto& events) { run(log, last, sink, events, caches, charge); }, events_);
+void TimedInterleaver::trace_runs(std::span<const RayRecord> rays, std::span<Hit> hits,
+                                  FetchCache& caches, const Charge& charge, size_t k) {
+  struct Run {
+    size_t begin = 0, end = 0;  // its rays
+    std::unique_ptr<TimedEngine> engine;
+    std::unique_ptr<FetchCache> caches;  // run 0: the batch's own
+    std::vector<std::pair<uint32_t, uint64_t>> charges;  // (pixel, DRAM bytes), in order
+  };
+  std::vector<Run> runs(k);
+  for (size_t j = 0; j < k; ++j) {
+    Run& r = runs[j];
+    r.begin = rays.size() * j / k;
+    r.end = rays.size() * (j + 1) / k;
+    if (j == 0) {
+      r.engine = std::move(engine_);
+    } else {
+      r.engine = std::make_unique<TimedEngine>(image_, timing_, rays_in_flight_);
+      r.caches = std::make_unique<FetchCache>(caches);
+    }
+  }
+  // Each run on its own thread: the rays before it (warming), then its own, traversed and
+  // timed a chunk at a time.
+  tbb::parallel_for(size_t{0}, k, [&](size_t j) {
+    Run& r = runs[j];
+    FetchCache& c = r.caches ? *r.caches : caches;
+    const size_t from = r.begin - std::min(r.begin, j == 0 ? 0 : warmup_rays_);
+    r.engine->begin_batch(r.begin - from, /*stop_at_end=*/j + 1 < k);
+    const TimedEngine::Charge keep = [&](uint32_t pixel, uint64_t bytes) {
+      r.charges.emplace_back(pixel, bytes);
+    };
+    RayStepLog log;
+    for (size_t begin = from; begin < r.end; begin += kRaysPerChunk) {
+      const size_t end = std::min(begin + kRaysPerChunk, r.end);
+      log.clear();
+      with_layout_decoder(image_, [&]<class Decoder>() {
+        for (size_t i = begin; i < end; ++i) {
+          const Hit h = log.record<Decoder>(image_, rays[i]);
+          if (i >= r.begin) hits[i] = h;  // a warming ray's hit is another run's
+        }
+      });
+      r.engine->time(log, end == r.end, c, keep);
+    }
   });
-  detach_from_log();
-}
-
-void TimedInterleaver::detach_from_log() {
-  for (Slot& s : slots_) {
-    if (!s.in_log) continue;
-    s.words.assign(s.next, s.end);
-    s.next = s.words.data();
-    s.end = s.next + s.words.size();
-    s.in_log = false;
-  }
-}
-
-template <class Sink, class Events>
-void TimedInterleaver::run(const RayStepLog& log, bool last, Sink& sink, Events& events,
-                           FetchCache& caches, const Charge& charge) {
-  size_t next = 0;
-  // Starts the log's next ray that takes a step in `slot` at cycle t; false when the log has
-  // none left and the batch goes on in the next log.
-  auto start = [&](uint32_t slot, uint64_t t) {
-    while (next < log.ray_count()) {
-      const std::span<const uint64_t> words = log.ray(next);
-      const uint32_t pixel = log.pixel(next++);
-      if (words.empty()) continue;  // misses the scene's bounds: no step at all
-      Slot& s = slots_[slot];
-      s.next = words.data();
-      s.end = s.next + words.size();
-      s.in_log = true;
-      s.pixel = pixel;
-      s.phase = Phase::kStep;
-      s.dram_bytes = 0;
-      events.set(slot, t);
-      return true;
-    }
-    events.clear(slot);
-    return last;
-  };
-  // The ray in `slot` ends at cycle t: false when its slot waits for the next log.
-  auto finish = [&](uint32_t slot, uint64_t t) {
-    Slot& s = slots_[slot];
-    charge(s.pixel, s.dram_bytes);
-    last_cycle_ = std::max(last_cycle_, t);
-    if (start(slot, t)) return true;
-    waiting_ = slot;
-    waiting_cycle_ = t;
-    return false;
-  };
-  for (; starting_ < slots_.size(); ++starting_)
-    if (!start(starting_, batch_start_)) return;
-  if (waiting_ != kNoSlot) {
-    if (!start(waiting_, waiting_cycle_)) return;
-    waiting_ = kNoSlot;
-  }
-  uint32_t slot;
-  uint64_t t;
-  while (events.take(slot, t)) {
-    Slot& s = slots_[slot];
-    if (s.phase == Phase::kStep) [[likely]] {
-      const uint64_t c = std::max(t, step_free_);  // the step pipeline: one step a cycle
-      step_free_ = c + 1;
-      if (s.next == s.end) [[unlikely]] {  // not reached: rays end after their leaf
-        if (!finish(slot, c)) return;
-        continue;
+  // In run order: the charges, the windows; the caches' counters grow by every run's window
+  // (run 0's already did) and their lines become the last run's.
+  FetchCache::Counters total = caches.counters();
+  for (size_t j = 0; j < k; ++j) {
+    for (const auto& [pixel, bytes] : runs[j].charges) charge(pixel, bytes);
+    add(runs[j].engine->window());
+    if (j > 0)
+      for (int s = 0; s < FetchCache::kStreams; ++s) {
+        const StreamCounters& w = runs[j].engine->window().counters[s];
+        StreamCounters& t = total[s];
+        t.fetches += w.fetches;
+        t.accesses += w.accesses;
+        t.hits += w.hits;
+        t.misses += w.misses;
+        t.dram_bytes += w.dram_bytes;
       }
-      const RayStepLog::Fetch node = RayStepLog::next(s.next);
-      const uint64_t decided = send_node(s, node, c, sink, caches) + unit_.step_cycles;
-      if (node.kind == RayStepLog::Kind::kLeaf) s.phase = Phase::kLeafBody;
-      events.set(slot, decided);
-      continue;
-    }
-    uint64_t ready;
-    switch (s.phase) {
-      case Phase::kStep:  // above
-        break;
-      case Phase::kLeafBody:
-        if (s.next != s.end && RayStepLog::kind(*s.next) == RayStepLog::Kind::kList) {
-          ready = send(s, RayStepLog::next(s.next), t, sink, caches);
-          s.phase = Phase::kTriangles;
-          events.set(slot, ready);
-          break;
-        }
-        [[fallthrough]];
-      case Phase::kTriangles:
-        // The rest of the leaf's fetches, all sent at once; each is a test in the lanes.
-        ready = t;
-        s.tests = 0;
-        while (s.next != s.end && !RayStepLog::is_node(*s.next)) {
-          ready = std::max(ready, send(s, RayStepLog::next(s.next), t, sink, caches));
-          ++s.tests;
-        }
-        if (s.tests > 0) {
-          s.phase = Phase::kIsect;
-          events.set(slot, ready);
-          break;
-        }
-        [[fallthrough]];  // an empty leaf
-      case Phase::kIsect: {
-        const uint64_t done = lanes_.book(s.tests, t);
-        if (s.next == s.end) {
-          if (!finish(slot, done)) return;
-        } else {
-          s.phase = Phase::kStep;
-          events.set(slot, done);
-        }
-        break;
-      }
-    }
   }
+  caches.take_lines(*runs[k - 1].caches, total);
+  engine_ = std::move(runs[k - 1].engine);
 }
 
 void TimedInterleaver::write_stats(Stats& stats) const {
-  stats.set("estimate.cycles", last_cycle_);
-  stats.set("estimate.l1.primary_misses", node_l1_.primary);
-  stats.set("estimate.l1.merged_misses", node_l1_.merged);
-  stats.set("estimate.l1.mshr_stall_cycles", node_l1_.stall_cycles);
+  stats.set("estimate.cycles", cycles_);
+  stats.set("estimate.l1.primary_misses", primary_);
+  stats.set("estimate.l1.merged_misses", merged_);
+  stats.set("estimate.l1.mshr_stall_cycles", stall_cycles_);
+  if (segments_ > 1) stats.set("estimate.runs", runs_);
 }
 
 }  // namespace rtusim

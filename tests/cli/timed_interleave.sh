@@ -3,7 +3,8 @@
 # see the functional tier's stream (same DRAM bytes, same image); with 32 it is deterministic
 # and the same at 1 and 2 threads, traces the same rays (same fetches, same image) in another
 # order than round-robin, and reports estimate.cycles, which with one ray in flight is the cycle
-# tier's sim.cycles to within the model's simplifications.
+# tier's sim.cycles to within the model's simplifications. In runs (functional.timed_segments)
+# its figures are the same at 1, 2 and 7 threads, close to one model's, with the same image.
 set -euo pipefail
 rtusim=$1; src=$2
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
@@ -16,12 +17,19 @@ run rr32 --set functional.rays_in_flight=32
 run t32 --set functional.timed=true --set functional.rays_in_flight=32 --threads 1
 run t32b --set functional.timed=true --set functional.rays_in_flight=32 --threads 2
 run t32c --set functional.timed=true --set functional.rays_in_flight=32 --threads 2
+run t8 --set functional.timed=true --set functional.rays_in_flight=8
+seg=(--set functional.timed=true --set functional.rays_in_flight=8 --set functional.timed_segments=3 --set functional.timed_warmup_rays=32)
+run s1 "${seg[@]}" --threads 1
+run s2 "${seg[@]}" --threads 2
+run s7 "${seg[@]}" --threads 7
+cmp "$tmp/f/image.png" "$tmp/s2/image.png"
 cmp "$tmp/f/image.png" "$tmp/t1/image.png"
 cmp "$tmp/f/image.png" "$tmp/t32/image.png"
 python3 - "$tmp" <<'PY'
 import json, sys
 d = sys.argv[1]
-s = {k: json.load(open(f"{d}/{k}/stats.json")) for k in ["f", "t1", "c1", "rr32", "t32", "t32b", "t32c"]}
+s = {k: json.load(open(f"{d}/{k}/stats.json"))
+     for k in ["f", "t1", "c1", "rr32", "t32", "t32b", "t32c", "t8", "s1", "s2", "s7"]}
 for k in ["dram.bytes.nodes", "dram.bytes.lists", "dram.bytes.triangles", "l1.misses", "traversal.node_fetches"]:
     assert s["t1"][k] == s["f"][k], (k, s["t1"][k], s["f"][k])
 assert s["t1"]["dram.bytes.nodes"] == s["c1"]["dram.bytes.nodes"]
@@ -34,5 +42,10 @@ assert s["t32"]["functional.timed"] is True and "functional.timed" not in s["rr3
 def results(x):
     return {k: v for k, v in x.items() if "seconds" not in k and "per_second" not in k and k != "run.threads"}
 assert results(s["t32"]) == results(s["t32b"]) == results(s["t32c"])
+assert results(s["s1"]) == results(s["s2"]) == results(s["s7"])
+# 1920 primary rays in 3 runs of >= 256 (8 x 32 warming rays); the shadow rays too.
+assert s["s1"]["estimate.runs"] >= 7 and "estimate.runs" not in s["t8"], s["s1"]["estimate.runs"]
+for k in ["traversal.node_fetches", "dram.bytes.nodes", "estimate.cycles"]:
+    assert abs(s["s1"][k] / s["t8"][k] - 1) < 0.01, (k, s["s1"][k], s["t8"][k])
 PY
 echo PASS

@@ -20,7 +20,7 @@ namespace fs = std::filesystem;
 
 // Every ray's traffic is attributed to its pixel: the per-pixel bytes of each layout sum to that
 // layout's total, with every pixel present (none dropped); also when rays interleave (charged
-// when each ends: round-robin, and the timed mode).
+// when each ends: round-robin, and the timed mode; in runs, each window's bytes).
 TEST(HeatmapTest, PixelBytesAddUpToTheLayoutsDramTotal) {
   const fs::path cfg = fs::temp_directory_path() / ("rtusim_heatmap_" + std::to_string(::getpid()) + ".toml");
   std::ofstream(cfg) << "[scene]\npath = \"builtin:cornell\"\n[image]\nwidth = 40\nheight = 30\n"
@@ -28,7 +28,9 @@ TEST(HeatmapTest, PixelBytesAddUpToTheLayoutsDramTotal) {
   const std::vector<std::vector<std::string>> modes = {
       {},
       {"tracer.ray_order=wavefront", "functional.rays_in_flight=8"},
-      {"tracer.ray_order=wavefront", "functional.rays_in_flight=8", "functional.timed=true"}};
+      {"tracer.ray_order=wavefront", "functional.rays_in_flight=8", "functional.timed=true"},
+      {"tracer.ray_order=wavefront", "functional.rays_in_flight=8", "functional.timed=true",
+       "functional.timed_segments=4", "functional.timed_warmup_rays=32"}};
   for (const auto& mode : modes) {
     const Prepared p = prepare_run(cfg.string(), mode);
     const SimulationResult r = simulate(p);
