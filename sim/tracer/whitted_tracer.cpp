@@ -7,6 +7,8 @@
 #include <cmath>
 
 #include <glm/geometric.hpp>
+#include <oneapi/tbb/blocked_range.h>
+#include <oneapi/tbb/parallel_for.h>
 
 namespace rtusim {
 
@@ -231,15 +233,17 @@ void WhittedTracer::render_wavefront(const PinholeCamera& camera,
     backend_.trace(batch, hits);
     for (const RayRecord& r : batch) ++out.rays_by_kind[static_cast<int>(r.kind)];
 
-    // Shade every hit, then trace all of the generation's shadow rays as one batch.
+    // Shade every hit (each on its own: on every thread), then trace all of the generation's
+    // shadow rays as one batch, in the generation's order.
     std::vector<Shading> shadings(generation.size());
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, generation.size(), 1024),
+                      [&](const tbb::blocked_range<size_t>& r) {
+                        for (size_t i = r.begin(); i != r.end(); ++i)
+                          if (hits[i].valid()) shadings[i] = shade(generation[i], hits[i]);
+                      });
     std::vector<RayRecord> shadow_batch;
-    for (size_t i = 0; i < generation.size(); ++i) {
-      if (!hits[i].valid()) continue;
-      shadings[i] = shade(generation[i], hits[i]);
-      shadow_batch.insert(shadow_batch.end(), shadings[i].shadow_rays.begin(),
-                          shadings[i].shadow_rays.end());
-    }
+    for (const Shading& sh : shadings)
+      shadow_batch.insert(shadow_batch.end(), sh.shadow_rays.begin(), sh.shadow_rays.end());
     std::vector<Hit> shadow_hits(shadow_batch.size());
     backend_.trace(shadow_batch, shadow_hits);
     out.rays_by_kind[static_cast<int>(RayKind::kShadow)] += shadow_batch.size();
