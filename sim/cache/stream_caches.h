@@ -34,6 +34,20 @@ struct StreamCounters {
   uint64_t hits = 0;
   uint64_t misses = 0;
   uint64_t dram_bytes = 0;
+
+  // Field by field: what counters grew by between two readings, and sums of such growths.
+  StreamCounters& operator+=(const StreamCounters& o) {
+    fetches += o.fetches;
+    accesses += o.accesses;
+    hits += o.hits;
+    misses += o.misses;
+    dram_bytes += o.dram_bytes;
+    return *this;
+  }
+  StreamCounters operator-(const StreamCounters& o) const {
+    return {fetches - o.fetches, accesses - o.accesses, hits - o.hits, misses - o.misses,
+            dram_bytes - o.dram_bytes};
+  }
 };
 
 class FetchCache {

@@ -17,8 +17,7 @@ FunctionalBackend::FunctionalBackend(const MemoryImage& image, const FetchCacheP
       rays_in_flight_(rays_in_flight),
       timed_(timing ? std::make_unique<TimedInterleaver>(image, *timing, rays_in_flight,
                                                          timed_segments, timed_warmup_rays)
-                    : nullptr),
-      timed_segments_(timing ? timed_segments : 1) {}
+                    : nullptr) {}
 
 void FunctionalBackend::trace(std::span<const RayRecord> rays, std::span<Hit> hits) {
   if (timed_)

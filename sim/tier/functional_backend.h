@@ -41,7 +41,6 @@ class FunctionalBackend final : public TraceBackend {
   int rays_in_flight() const { return rays_in_flight_; }
   // The timed mode's model; nullptr when untimed.
   const TimedInterleaver* timed() const { return timed_.get(); }
-  int timed_segments() const { return timed_segments_; }
 
  private:
   // The interleaved mode's trace (rays_in_flight_ > 1).
@@ -59,7 +58,6 @@ class FunctionalBackend final : public TraceBackend {
   std::vector<uint64_t> pixel_dram_bytes_;
   int rays_in_flight_;
   std::unique_ptr<TimedInterleaver> timed_;
-  int timed_segments_;
 };
 
 }  // namespace rtusim

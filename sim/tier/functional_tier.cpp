@@ -43,8 +43,8 @@ void FunctionalTier::write_stats(Stats& stats) const {
     stats.set("functional.rays_in_flight", backend_.rays_in_flight());
   if (backend_.timed()) {
     stats.set("functional.timed", true);
-    if (backend_.timed_segments() > 1)
-      stats.set("functional.timed_segments", backend_.timed_segments());
+    if (backend_.timed()->segments() > 1)
+      stats.set("functional.timed_segments", backend_.timed()->segments());
     backend_.timed()->write_stats(stats);
   }
 }

@@ -154,12 +154,8 @@ void TimedEngine::close_window(uint64_t t, const FetchCache& caches, const Charg
   measuring_ = false;
   window_.cycles = t - window_start_;
   const FetchCache::Counters& now = caches.counters();
-  for (int i = 0; i < FetchCache::kStreams; ++i) {
-    StreamCounters& d = window_.counters[i];
-    const StreamCounters &a = now[i], &b = counters_at_start_[i];
-    d = {a.fetches - b.fetches, a.accesses - b.accesses, a.hits - b.hits, a.misses - b.misses,
-         a.dram_bytes - b.dram_bytes};
-  }
+  for (int i = 0; i < FetchCache::kStreams; ++i)
+    window_.counters[i] = now[i] - counters_at_start_[i];
   window_.primary_misses = node_l1_.primary - primary_at_start_;
   window_.merged_misses = node_l1_.merged - merged_at_start_;
   window_.mshr_stall_cycles = node_l1_.stall_cycles - stall_at_start_;

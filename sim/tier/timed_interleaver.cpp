@@ -50,26 +50,30 @@ void TimedInterleaver::add(const TimedEngine::Window& w) {
   ++runs_;
 }
 
+void TimedInterleaver::record(std::span<const RayRecord> rays, size_t begin, size_t end,
+                              size_t first_hit, std::span<Hit> hits, RayStepLog& log) const {
+  log.clear();
+  with_layout_decoder(image_, [&]<class Decoder>() {
+    for (size_t i = begin; i < end; ++i) {
+      const Hit h = log.record<Decoder>(image_, rays[i]);
+      if (i >= first_hit) hits[i] = h;
+    }
+  });
+}
+
 void TimedInterleaver::trace_whole(std::span<const RayRecord> rays, std::span<Hit> hits,
                                    FetchCache& caches, const Charge& charge) {
   engine_->begin_batch(0, /*stop_at_end=*/false);
-  // Records rays [begin, begin + n) into `log`, their hits into hits.
-  auto record = [&](size_t begin, size_t n, RayStepLog& log) {
-    log.clear();
-    with_layout_decoder(image_, [&]<class Decoder>() {
-      for (size_t i = begin; i < begin + n; ++i) hits[i] = log.record<Decoder>(image_, rays[i]);
-    });
-  };
   const size_t chunks = (rays.size() + kRaysPerChunk - 1) / kRaysPerChunk;
   if (chunks <= 1) {
-    record(0, rays.size(), log_);
+    record(rays, 0, rays.size(), 0, hits, log_);
     engine_->time(log_, /*last=*/true, caches, charge);
   } else {
     run_chunks<RayStepLog>(
         chunks,
         [&](size_t c, RayStepLog& log) {
           const size_t begin = c * kRaysPerChunk;
-          record(begin, std::min(kRaysPerChunk, rays.size() - begin), log);
+          record(rays, begin, std::min(begin + kRaysPerChunk, rays.size()), begin, hits, log);
         },
         [&](size_t c, RayStepLog& log) {
           engine_->time(log, c + 1 == chunks, caches, charge);
@@ -111,13 +115,7 @@ void TimedInterleaver::trace_runs(std::span<const RayRecord> rays, std::span<Hit
     RayStepLog log;
     for (size_t begin = from; begin < r.end; begin += kRaysPerChunk) {
       const size_t end = std::min(begin + kRaysPerChunk, r.end);
-      log.clear();
-      with_layout_decoder(image_, [&]<class Decoder>() {
-        for (size_t i = begin; i < end; ++i) {
-          const Hit h = log.record<Decoder>(image_, rays[i]);
-          if (i >= r.begin) hits[i] = h;  // a warming ray's hit is another run's
-        }
-      });
+      record(rays, begin, end, r.begin, hits, log);  // a warming ray's hit is another run's
       r.engine->time(log, end == r.end, c, keep);
     }
   });
@@ -128,15 +126,8 @@ void TimedInterleaver::trace_runs(std::span<const RayRecord> rays, std::span<Hit
     for (const auto& [pixel, bytes] : runs[j].charges) charge(pixel, bytes);
     add(runs[j].engine->window());
     if (j > 0)
-      for (int s = 0; s < FetchCache::kStreams; ++s) {
-        const StreamCounters& w = runs[j].engine->window().counters[s];
-        StreamCounters& t = total[s];
-        t.fetches += w.fetches;
-        t.accesses += w.accesses;
-        t.hits += w.hits;
-        t.misses += w.misses;
-        t.dram_bytes += w.dram_bytes;
-      }
+      for (int s = 0; s < FetchCache::kStreams; ++s)
+        total[s] += runs[j].engine->window().counters[s];
   }
   caches.take_lines(*runs[k - 1].caches, total);
   engine_ = std::move(runs[k - 1].engine);

@@ -52,6 +52,8 @@ class TimedInterleaver {
 
   // The runs of a batch of `rays` rays (1: one model).
   size_t runs(size_t rays) const;
+  // functional.timed_segments (K).
+  size_t segments() const { return segments_; }
   // estimate.cycles, estimate.l1.{primary,merged}_misses, estimate.l1.mshr_stall_cycles,
   // estimate.runs (models run: one per batch, k per batch in segments).
   void write_stats(Stats& stats) const;
@@ -63,6 +65,10 @@ class TimedInterleaver {
   // The batch in k runs on any thread.
   void trace_runs(std::span<const RayRecord> rays, std::span<Hit> hits, FetchCache& caches,
                   const Charge& charge, size_t k);
+  // Records rays [begin, end) into `log` (cleared first); the hits of those from first_hit on
+  // into hits.
+  void record(std::span<const RayRecord> rays, size_t begin, size_t end, size_t first_hit,
+              std::span<Hit> hits, RayStepLog& log) const;
   void add(const TimedEngine::Window& w);
 
   const MemoryImage& image_;
