@@ -282,16 +282,6 @@ template <class Sink>
   return {n.prim_count, false};
 }
 
-// The loop above on ray `s`: sets leaf_prims_tested; true when the ray is done (any-hit mode).
-template <class Sink>
-[[gnu::always_inline]] inline bool leaf_triangles_scalar(TraversalState& s,
-                                                         const MemoryImage& image,
-                                                         const NodeView& n, Sink& sink) {
-  const LeafTested o = leaf_triangles_loop(s.wray, s.hit, s.ray.t_max, s.any_hit, image, n, sink);
-  s.leaf_prims_tested = o.tested;
-  return o.done;
-}
-
 #if defined(__AVX512F__)
 // Leaves of at least this many triangles are tested 16 at a time.
 constexpr uint32_t kChunkMinPrims = 4;
@@ -303,7 +293,7 @@ struct LeafOutcome {
   bool done;
 };
 
-// The same as leaf_triangles_scalar(), 16 triangles at a time: each chunk is tested against the
+// The same as leaf_triangles_loop(), 16 triangles at a time: each chunk is tested against the
 // hit found before it, then its lanes that may hit are taken in order against the hit so far,
 // as the scalar loop takes them; the fetches are reported in the same order and stop where it
 // stops. Needs an image whose triangle offsets fit in 31 bits (the gathers' indices). Out of

@@ -179,13 +179,10 @@ struct RecordedFetches {
 ::testing::AssertionResult leaf_loops_agree(const LeafImage& l, const WatertightRay& wray,
                                             const Hit& prior, float ray_t_max, bool any_hit,
                                             detail::LeafOutcome& out) {
-  TraversalState s;
-  s.wray = wray;
-  s.hit = prior;
-  s.ray.t_max = ray_t_max;
-  s.any_hit = any_hit;
+  Hit hit = prior;  // the scalar loop's
   RecordedFetches want_sink, got_sink;
-  const bool done = detail::leaf_triangles_scalar(s, l.image, l.leaf, want_sink);
+  const detail::LeafTested scalar =
+      detail::leaf_triangles_loop(wray, hit, ray_t_max, any_hit, l.image, l.leaf, want_sink);
   out = detail::leaf_triangles_chunked(wray, prior, ray_t_max, any_hit, l.image, l.leaf,
                                        got_sink);
   const std::vector<RecordedFetch>& want = want_sink.fetches;
@@ -195,13 +192,13 @@ struct RecordedFetches {
            << (any_hit ? "any-hit" : "closest-hit") << ", prior t " << prior.t << ", t_max "
            << ray_t_max << ", " << l.leaf.prim_count << " triangles: ";
   };
-  if (bits(out.hit.t) != bits(s.hit.t) || out.hit.triangle != s.hit.triangle ||
-      bits(out.hit.u) != bits(s.hit.u) || bits(out.hit.v) != bits(s.hit.v))
+  if (bits(out.hit.t) != bits(hit.t) || out.hit.triangle != hit.triangle ||
+      bits(out.hit.u) != bits(hit.u) || bits(out.hit.v) != bits(hit.v))
     return fail() << "hit t " << out.hit.t << " triangle " << out.hit.triangle << ", scalar t "
-                  << s.hit.t << " triangle " << s.hit.triangle;
-  if (out.tested != s.leaf_prims_tested)
-    return fail() << "tested " << out.tested << ", scalar " << s.leaf_prims_tested;
-  if (out.done != done) return fail() << "done " << out.done << ", scalar " << done;
+                  << hit.t << " triangle " << hit.triangle;
+  if (out.tested != scalar.tested)
+    return fail() << "tested " << out.tested << ", scalar " << scalar.tested;
+  if (out.done != scalar.done) return fail() << "done " << out.done << ", scalar " << scalar.done;
   for (size_t k = 0; k < std::max(got.size(), want.size()); ++k) {
     if (k >= got.size() || k >= want.size())
       return fail() << got.size() << " fetches, scalar " << want.size();
