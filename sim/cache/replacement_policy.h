@@ -26,6 +26,9 @@ class ReplacementPolicy {
   // The way to evict from the full `set`. Leaves the recency state as it is (the fill that
   // follows updates it); the random policy advances its generator.
   virtual uint32_t victim(uint32_t set) = 0;
+  // Whether a hit on the way of `set` touched or filled last changes no later victim() choice
+  // (a replay may then count such repeated hits without making them). False unless known.
+  virtual bool retouch_neutral() const { return false; }
 };
 
 // Names accepted by make_replacement_policy(), in the order listed in errors.

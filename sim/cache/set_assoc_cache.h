@@ -45,6 +45,7 @@ class DynamicPolicy {
   void touch(uint32_t set, uint32_t way) { impl_->touch(set, way); }
   void fill(uint32_t set, uint32_t way) { impl_->fill(set, way); }
   uint32_t victim(uint32_t set) { return impl_->victim(set); }
+  bool retouch_neutral() const { return impl_->retouch_neutral(); }
 
  private:
   std::unique_ptr<ReplacementPolicy> impl_;
@@ -107,6 +108,8 @@ class BasicSetAssocCache {
   uint32_t sets() const { return sets_; }
   uint32_t ways() const { return ways_; }
   const char* policy_name() const { return policy_.name(); }
+  // Whether a repeated hit on a set's last-touched line changes no later decision (the policy's).
+  bool retouch_neutral() const { return policy_.retouch_neutral(); }
 
  private:
   // Tags are line >> index_bits < 2^62, so all ones never matches a real tag.
@@ -204,6 +207,9 @@ class SetAssocCache {
     return visit([](const auto& c) -> const CacheParams& { return c.params(); });
   }
   const char* policy_name() const { return visit([](const auto& c) { return c.policy_name(); }); }
+  bool retouch_neutral() const {
+    return visit([](const auto& c) { return c.retouch_neutral(); });
+  }
 
  private:
   explicit SetAssocCache(Variant impl) : impl_(std::move(impl)) {}

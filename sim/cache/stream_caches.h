@@ -83,6 +83,23 @@ class FetchCache {
     return count_to_dram(c, addr, bytes);
   }
 
+  // Counts what a replay log counted instead of logging (tracer/fetch_log.h): `n` node fetches
+  // that were one-line hits; `fetches` on list or triangle stream `s` straight to DRAM in
+  // `bursts` bursts.
+  void count_node_hits(uint64_t n) {
+    StreamCounters& c = counters_[static_cast<int>(Stream::kNode)];
+    c.fetches += n;
+    c.accesses += n;
+    c.hits += n;
+  }
+  void count_dram_bursts(Stream s, uint64_t fetches, uint64_t bursts) {
+    StreamCounters& c = counters_[static_cast<int>(s)];
+    c.fetches += fetches;
+    c.accesses += bursts;
+    c.misses += bursts;
+    c.dram_bytes += bursts * kDramBurstBytes;
+  }
+
   // Calls f(sink) with a sink equivalent to this FetchCache whose node stream goes to the
   // concrete node-L1 type, so a traversal loop over `sink` inlines the L1 lookup: the policy is
   // dispatched once per call instead of once per fetch.

@@ -72,23 +72,49 @@ void FunctionalBackend::trace_interleaved(std::span<const RayRecord> rays, std::
   });
 }
 
+// Node fetches that are repeated hits and list and triangle fetches straight to DRAM are
+// counted by the recording threads (FetchLog), when the node L1's policy allows the first.
+ReplayNeeds FunctionalBackend::replay_needs() const {
+  ReplayNeeds needs;
+  if (caches_.node_l1().retouch_neutral())
+    needs.node_line_bytes = caches_.node_l1().params().line_bytes;
+  needs.lists_triangles_direct = caches_.data_cache() == nullptr;
+  return needs;
+}
+
 // The same cache accesses and pixel charges as trace() of the log's rays.
 void FunctionalBackend::replay(const FetchLog& log) {
   caches_.with_inlined_node_l1([&](auto& sink) {
     struct ChargingSink {
       std::remove_reference_t<decltype(sink)>& caches;
       FunctionalBackend& backend;
-      uint64_t before;  // DRAM bytes when the current ray began
-      void fetch(Stream s, uint64_t addr, uint32_t bytes) { caches.fetch(s, addr, bytes); }
-      void end_ray(uint32_t pixel, RayKind) {
+      uint64_t before;     // DRAM bytes when the current ray began
+      uint64_t line_mask;  // ~(node L1 line bytes - 1)
+      // fetch() of a one-line node fetch by the one-line path (the same counts): the traversal
+      // knows a fetch's size where it makes it, the replay does not, and the general path's
+      // range loop and stream dispatch per fetch cost about as much as the lookup itself.
+      void fetch(Stream s, uint64_t addr, uint32_t bytes) {
+        if (s == Stream::kNode && bytes != 0 && ((addr ^ (addr + bytes - 1)) & line_mask) == 0)
+            [[likely]]
+          caches.fetch_node_line(addr);
+        else
+          caches.fetch(s, addr, bytes);
+      }
+      void end_ray(uint32_t pixel, RayKind, uint64_t direct_dram_bytes) {
         const uint64_t now = backend.caches_.dram_bytes_total();
-        backend.charge(pixel, now - before);
+        backend.charge(pixel, now - before + direct_dram_bytes);
         before = now;
       }
     };
-    ChargingSink charging{sink, *this, caches_.dram_bytes_total()};
+    ChargingSink charging{sink, *this, caches_.dram_bytes_total(),
+                          ~uint64_t{caches_.node_l1().params().line_bytes - 1u}};
     log.replay(charging);
   });
+  caches_.count_node_hits(log.counted_node_hits());
+  for (int s = 0; s < FetchCache::kStreams; ++s) {
+    const FetchLog::DirectCount& d = log.direct_counts()[s];
+    if (d.fetches) caches_.count_dram_bursts(static_cast<Stream>(s), d.fetches, d.bursts);
+  }
 }
 
 }  // namespace rtusim

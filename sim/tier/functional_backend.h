@@ -34,6 +34,7 @@ class FunctionalBackend final : public TraceBackend {
     return rays_in_flight_ > 1 || timed_ ? nullptr : &image_;
   }
   void replay(const FetchLog& log) override;
+  ReplayNeeds replay_needs() const override;
 
   const FetchCache& caches() const { return caches_; }
   // DRAM bytes (all streams) caused by each pixel's whole ray tree.

@@ -14,6 +14,7 @@ class ProgressBackend final : public TraceBackend {
   ~ProgressBackend() override;
   void trace(std::span<const RayRecord> rays, std::span<Hit> hits) override;
   const MemoryImage* replay_image() const override { return inner_.replay_image(); }
+  ReplayNeeds replay_needs() const override { return inner_.replay_needs(); }
   void replay(const FetchLog& log) override;
 
  private:

@@ -1,13 +1,24 @@
-// A compact record of the fetches of a run of rays, in issue order, for tracing rays on other
-// threads and applying their fetches to a cache model later in the single-thread order.
-// Each fetch is a tag byte (stream, and whether its size repeats the stream's last one), the
-// zigzag varint of its address minus the stream's last address, and its size when it changed:
-// about 2-4 bytes a fetch instead of 16.
+// A record of the fetches of a run of rays, in issue order, for tracing rays on other threads
+// and applying their fetches to a cache model later in the single-thread order. Each fetch is
+// one 64-bit word: the address in the high 40 bits, the size in the next 22 and the stream in
+// the low 2 (8 bytes a fetch instead of the 16 of a RecordedFetch). A fetch that does not fit
+// (an address at or past 2^40 or a size at or past 2^22, which no image of this simulator
+// reaches) takes three words: a marker (stream code 3), the address and the size with its
+// stream. Words, not a varint stream: recording and replay are a store and a load with no
+// data-dependent branch, where the varints' byte-by-byte decode cost more per fetch than the
+// cache model it fed (the replay runs on one thread, so it bounds every parallel run).
+//
+// What the replaying backend does not need (ReplayNeeds) is counted while recording instead:
+// node fetches that can only be repeated hits on the line the node stream touched last, and
+// list and triangle fetches that go straight to DRAM (their bursts, charged to their ray).
+// A log starts counting afresh at clear(): the first node fetch after it is always logged.
 #pragma once
 #include <array>
+#include <bit>
 #include <cstdint>
 #include <vector>
 
+#include "cache/stream_caches.h"
 #include "layout/memory_image.h"
 #include "tracer/ray_batch.h"
 
@@ -15,23 +26,43 @@ namespace rtusim {
 
 class FetchLog {
  public:
+  // What is counted instead of logged, from the next fetch on (kept by clear()).
+  void set_needs(const ReplayNeeds& needs) {
+    node_line_shift_ = needs.node_line_bytes ? std::countr_zero(needs.node_line_bytes) : -1;
+    direct_ = needs.lists_triangles_direct;
+  }
+
   // The traversal sink call: records one fetch of the current ray.
-  void fetch(Stream s, uint64_t addr, uint32_t bytes) {
-    if (bytes_.size() - used_ < kMaxFetchBytes) bytes_.resize(2 * bytes_.size() + kMaxFetchBytes);
-    uint8_t* p = bytes_.data() + used_;
-    const int i = static_cast<int>(s);
-    const bool same_size = bytes == last_bytes_[i];
-    *p++ = static_cast<uint8_t>(i | (same_size ? kSameSize : 0));
-    const uint64_t delta = addr - last_addr_[i];
-    p = put_varint(p, (delta << 1) ^ (0 - (delta >> 63)));  // zigzag: small steps back stay short
-    if (!same_size) p = put_varint(p, bytes);
-    used_ = static_cast<size_t>(p - bytes_.data());
-    last_addr_[i] = addr;
-    last_bytes_[i] = bytes;
+  [[gnu::always_inline]] void fetch(Stream s, uint64_t addr, uint32_t bytes) {
+    if (bytes != 0) {
+      if (s == Stream::kNode) {
+        if (node_line_shift_ >= 0 && counted_node_hit(addr, bytes)) return;
+      } else if (direct_) {
+        const uint64_t bursts = FetchCache::dram_bursts(addr, bytes);
+        DirectCount& d = direct_counts_[static_cast<int>(s)];
+        ++d.fetches;
+        d.bursts += bursts;
+        ray_direct_bytes_ += bursts * FetchCache::kDramBurstBytes;
+        return;
+      }
+    }
+    if (words_.size() - used_ < kMaxWordsPerFetch) [[unlikely]] grow();
+    uint64_t* w = words_.data() + used_;
+    const auto stream = static_cast<uint64_t>(s);
+    if ((addr >> kAddrBits) == 0 && (bytes >> kSizeBits) == 0) [[likely]] {
+      *w = addr << (kSizeBits + 2) | uint64_t{bytes} << 2 | stream;
+      ++used_;
+      return;
+    }
+    w[0] = kLongMarker;
+    w[1] = addr;
+    w[2] = uint64_t{bytes} << 2 | stream;
+    used_ += 3;
   }
   // Closes the current ray: the fetches since the last end_ray() are `ray`'s.
   void end_ray(const RayRecord& ray) {
-    rays_.push_back({ray.pixel, ray.kind, static_cast<uint32_t>(used_)});
+    rays_.push_back({ray.pixel, ray.kind, static_cast<uint32_t>(used_), ray_direct_bytes_});
+    ray_direct_bytes_ = 0;
   }
   void clear();
 
@@ -41,59 +72,82 @@ class FetchLog {
     for (const RayEnd& r : rays_) n += r.kind == kind;
     return n;
   }
-  size_t size_bytes() const { return used_ + rays_.size() * sizeof(RayEnd); }
+  size_t size_bytes() const { return used_ * sizeof(uint64_t) + rays_.size() * sizeof(RayEnd); }
 
-  // Calls sink.fetch(stream, addr, bytes) for every fetch in issue order, and
-  // sink.end_ray(pixel, kind) after each ray's fetches.
+  // Counted, not logged: node fetches that were repeated hits (each one line access), and per
+  // stream the fetches straight to DRAM and their 64-byte bursts.
+  struct DirectCount {
+    uint64_t fetches = 0;
+    uint64_t bursts = 0;
+  };
+  uint64_t counted_node_hits() const { return counted_node_hits_; }
+  const std::array<DirectCount, FetchCache::kStreams>& direct_counts() const {
+    return direct_counts_;
+  }
+
+  // Calls sink.fetch(stream, addr, bytes) for every logged fetch in issue order, and after each
+  // ray's fetches sink.end_ray(pixel, kind, direct_dram_bytes) when the sink takes the ray's
+  // counted DRAM bytes, else sink.end_ray(pixel, kind).
   template <class Sink>
   void replay(Sink& sink) const {
-    std::array<uint64_t, 3> addr{};
-    std::array<uint32_t, 3> size{};
+    const uint64_t* w = words_.data();
     size_t pos = 0;
     for (const RayEnd& r : rays_) {
       while (pos < r.end) {
-        const uint8_t tag = bytes_[pos++];
-        const int i = tag & 3;
-        const uint64_t z = get_varint(pos);
-        addr[i] += (z >> 1) ^ (0 - (z & 1));
-        if (!(tag & kSameSize)) size[i] = static_cast<uint32_t>(get_varint(pos));
-        sink.fetch(static_cast<Stream>(i), addr[i], size[i]);
+        const uint64_t word = w[pos];
+        if (word != kLongMarker) [[likely]] {
+          sink.fetch(static_cast<Stream>(word & 3), word >> (kSizeBits + 2),
+                     static_cast<uint32_t>(word >> 2) & ((1u << kSizeBits) - 1));
+          ++pos;
+        } else {
+          sink.fetch(static_cast<Stream>(w[pos + 2] & 3), w[pos + 1],
+                     static_cast<uint32_t>(w[pos + 2] >> 2));
+          pos += 3;
+        }
       }
-      sink.end_ray(r.pixel, r.kind);
+      if constexpr (requires { sink.end_ray(r.pixel, r.kind, r.direct_bytes); })
+        sink.end_ray(r.pixel, r.kind, r.direct_bytes);
+      else
+        sink.end_ray(r.pixel, r.kind);
     }
   }
 
  private:
-  static constexpr uint8_t kSameSize = 4;
-  static constexpr size_t kMaxFetchBytes = 1 + 10 + 5;  // tag, address step, size
+  static constexpr int kAddrBits = 40;  // byte addresses below 1 TiB fit a short record
+  static constexpr int kSizeBits = 22;  // sizes below 4 MiB fit a short record
+  static constexpr uint64_t kLongMarker = 3;  // stream code 3: a long record follows
+  static constexpr size_t kMaxWordsPerFetch = 3;
+  static constexpr uint64_t kNoLine = ~uint64_t{0};
   struct RayEnd {
     uint32_t pixel;
     RayKind kind;
-    uint32_t end;  // offset in bytes_ past the ray's last fetch
+    uint32_t end;           // index in words_ past the ray's last logged fetch
+    uint64_t direct_bytes;  // DRAM bytes of its counted fetches straight to DRAM
   };
 
-  static uint8_t* put_varint(uint8_t* p, uint64_t v) {
-    while (v >= 0x80) {
-      *p++ = static_cast<uint8_t>(v | 0x80);
-      v >>= 7;
+  // A node fetch of `bytes` (> 0) at `addr`: whether it lies in the line the node stream's
+  // previous fetch ended in (a repeated hit, now counted); else it becomes the last line.
+  bool counted_node_hit(uint64_t addr, uint64_t bytes) {
+    const uint64_t first = addr >> node_line_shift_;
+    const uint64_t last = (addr + bytes - 1) >> node_line_shift_;
+    if (first == last && first == last_node_line_) {
+      ++counted_node_hits_;
+      return true;
     }
-    *p++ = static_cast<uint8_t>(v);
-    return p;
+    last_node_line_ = last;
+    return false;
   }
-  uint64_t get_varint(size_t& pos) const {
-    uint64_t v = 0;
-    for (int shift = 0;; shift += 7) {
-      const uint8_t b = bytes_[pos++];
-      v |= uint64_t{b & 0x7fu} << shift;
-      if (!(b & 0x80)) return v;
-    }
-  }
+  [[gnu::noinline]] void grow() { words_.resize(2 * words_.size() + 1024); }
 
-  std::vector<uint8_t> bytes_;  // the encoding in [0, used_); the rest is room to write
+  std::vector<uint64_t> words_;  // the records in [0, used_); the rest is room to write
   size_t used_ = 0;
   std::vector<RayEnd> rays_;
-  std::array<uint64_t, 3> last_addr_{};
-  std::array<uint32_t, 3> last_bytes_{};
+  int node_line_shift_ = -1;  // -1: every node fetch logged
+  bool direct_ = false;
+  uint64_t last_node_line_ = kNoLine;
+  uint64_t counted_node_hits_ = 0;
+  std::array<DirectCount, FetchCache::kStreams> direct_counts_{};
+  uint64_t ray_direct_bytes_ = 0;  // of the ray being recorded
 };
 
 }  // namespace rtusim

@@ -77,6 +77,7 @@ void render_recursive_parallel(const Scene& scene, const TracerParams& params,
       [&](size_t c, Slot& s) {
         const std::span<const uint32_t> mine = chunk_pixels(c);
         s.log.clear();
+        s.log.set_needs(backend.replay_needs());
         std::unique_ptr<Worker>& w = workers.local();
         if (!w) w = std::make_unique<Worker>(scene, params, image, camera, out);
         w->recorder.set_log(&s.log);
@@ -127,6 +128,7 @@ void ParallelBackend::trace(std::span<const RayRecord> rays, std::span<Hit> hits
         const size_t begin = c * kRaysPerChunk;
         const size_t n = std::min(kRaysPerChunk, rays.size() - begin);
         log.clear();
+        log.set_needs(inner_.replay_needs());
         RecordingBackend recorder(image, &log);
         recorder.trace(rays.subspan(begin, n), hits.subspan(begin, n));
       },

@@ -31,6 +31,7 @@ class ParallelBackend final : public TraceBackend {
   void trace(std::span<const RayRecord> rays, std::span<Hit> hits) override;
   const MemoryImage* replay_image() const override { return inner_.replay_image(); }
   void replay(const FetchLog& log) override { inner_.replay(log); }
+  ReplayNeeds replay_needs() const override { return inner_.replay_needs(); }
 
  private:
   TraceBackend& inner_;

@@ -23,6 +23,19 @@ struct RayRecord {
   bool any_hit() const { return kind == RayKind::kShadow; }
 };
 
+// What a backend's replay() needs of a FetchLog, so that the recording, on the worker threads,
+// counts the fetches whose effect does not depend on the backend's state instead of logging
+// them for the single replay thread.
+struct ReplayNeeds {
+  // Nonzero: the node L1's line bytes, for a backend whose node L1 takes a repeated hit on its
+  // last-touched line without changing any later decision (ReplacementPolicy::
+  // retouch_neutral()): a node fetch within the line the previous node fetch ended in is then
+  // such a hit, counted, not logged. 0: every node fetch is logged.
+  uint32_t node_line_bytes = 0;
+  // List and triangle fetches go straight to DRAM: their bursts are counted, not logged.
+  bool lists_triangles_direct = false;
+};
+
 // Something that traces ray batches: hits[i] is the hit of rays[i].
 class TraceBackend {
  public:
@@ -34,6 +47,8 @@ class TraceBackend {
   // replay() then does what trace() of the log's rays would have done. nullptr: trace() only.
   virtual const MemoryImage* replay_image() const { return nullptr; }
   virtual void replay(const FetchLog& log);
+  // What replay() needs recorded (default: every fetch).
+  virtual ReplayNeeds replay_needs() const { return {}; }
 
   // A backend whose state is a sum over its rays, whatever their order (counters), can instead
   // trace on other threads in copies of itself: fork() makes an empty copy (nullptr: it

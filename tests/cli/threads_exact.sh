@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # --threads N never changes a result: run (stats.json but its timing keys, image.png, every
 # heatmap and diff image), hits and trace (din and bin) are byte-identical for 1, 2 and 7
-# threads, on every layout, in both ray orders, with and without the data cache.
+# threads, on every layout, in both ray orders, with and without the data cache, and for every
+# node-L1 replacement policy.
 set -euo pipefail
 rtusim=$1; src=$2
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
@@ -48,6 +49,23 @@ for order in recursive wavefront; do
     done
   done
 done
+# The recording threads count repeated node-L1 hits and straight-to-DRAM fetches instead of
+# logging them (tracer/fetch_log.h): the same answer for every replacement policy, and with
+# lines smaller than a node (a node fetch touches two lines) or holding many nodes.
+for policy in lru tree-plru fifo random; do
+  for line in 4 64 256; do
+    for t in 1 2; do
+      d="$tmp/policy-$policy-$line-$t"
+      "$rtusim" run "$src/configs/default.toml" "${common[@]}" --set tracer.ray_order=wavefront \
+        --set l1.policy=$policy --set l1.line=$line --set l1.assoc=2 --threads $t --out "$d" > /dev/null
+      strip "$d/stats.json" > "$d/stats.stripped"
+      rm "$d/stats.json"
+    done
+    diff -r "$tmp/policy-$policy-$line-1" "$tmp/policy-$policy-$line-2" ||
+      { echo "run differs: l1.policy=$policy l1.line=$line" >&2; exit 1; }
+  done
+done
+
 # The run really recorded something: misses and pixel heatmaps for every layout.
 python3 - "$tmp/recursive-false-7/stats.stripped" $layouts <<'PY'
 import json, sys

@@ -13,6 +13,7 @@ class FifoPolicy final : public ReplacementPolicy {
   FifoPolicy(uint32_t sets, uint32_t ways, uint64_t /*seed*/) : ways_(ways), next_(sets, 0) {}
 
   const char* name() const override { return kName; }
+  bool retouch_neutral() const override { return true; }  // hits change nothing
   void touch(uint32_t, uint32_t) override {}
   // Ways are filled in order (invalid ways lowest first, then the victims this policy names),
   // so the way after the one just filled is always the oldest.

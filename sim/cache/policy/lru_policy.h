@@ -14,6 +14,7 @@ class LruPolicy final : public ReplacementPolicy {
       : ways_(ways), last_use_(uint64_t{sets} * ways, 0) {}
 
   const char* name() const override { return kName; }
+  bool retouch_neutral() const override { return true; }  // the last-used way stays the most recent
   void touch(uint32_t set, uint32_t way) override {
     last_use_[uint64_t{set} * ways_ + way] = ++clock_;
   }

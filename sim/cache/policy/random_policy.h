@@ -30,6 +30,7 @@ class RandomPolicy final : public ReplacementPolicy {
   RandomPolicy(uint32_t /*sets*/, uint32_t ways, uint64_t seed) : ways_(ways), rng_(seed) {}
 
   const char* name() const override { return kName; }
+  bool retouch_neutral() const override { return true; }  // hits change nothing
   void touch(uint32_t, uint32_t) override {}
   void fill(uint32_t, uint32_t) override {}
   uint32_t victim(uint32_t) override { return rng_.below(ways_); }

@@ -39,6 +39,7 @@ class TreePlruPolicy final : public ReplacementPolicy {
   }
 
   const char* name() const override { return kName; }
+  bool retouch_neutral() const override { return true; }  // its path already points away from it
   void touch(uint32_t set, uint32_t way) override {
     uint8_t* b = &bits_[uint64_t{set} * ways_];  // b[1 .. W-1]; b[0] unused
     uint32_t node = 1;
