@@ -1,12 +1,13 @@
 #include "app/trace_replay.h"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <span>
 #include <type_traits>
 #include <vector>
 
-#if defined(__AVX512F__)
+#if defined(__AVX2__)
 #include <immintrin.h>
 #endif
 
@@ -31,6 +32,41 @@ size_t drop_repeated_lines(std::span<uint64_t> addrs, unsigned line_shift, uint6
     last_line = addrs[i + 7] >> line_shift;  // before the store may overwrite it
     _mm512_storeu_si512(addrs.data() + kept, _mm512_maskz_compress_epi64(differs, a));
     kept += static_cast<size_t>(std::popcount(static_cast<unsigned>(differs)));
+    lines_before = lines;
+  }
+#elif defined(__AVX2__)
+  // 4 at a time, as above; AVX2 has no compress, so the kept lanes are moved to the front by a
+  // permutation looked up by the mask of kept lanes (its 32-bit halves, in order).
+  alignas(32) static constexpr auto kToFront = [] {
+    std::array<std::array<uint32_t, 8>, 16> t{};
+    for (unsigned m = 0; m < 16; ++m) {
+      unsigned k = 0;
+      for (unsigned lane = 0; lane < 4; ++lane) {
+        if (!((m >> lane) & 1)) continue;
+        t[m][2 * k] = 2 * lane;
+        t[m][2 * k + 1] = 2 * lane + 1;
+        ++k;
+      }
+    }
+    return t;
+  }();
+  const __m128i shift = _mm_cvtsi32_si128(static_cast<int>(line_shift));
+  __m256i lines_before = _mm256_set1_epi64x(static_cast<long long>(last_line));
+  for (; i + 4 <= addrs.size(); i += 4) {
+    const __m256i a = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(addrs.data() + i));
+    const __m256i lines = _mm256_srl_epi64(a, shift);
+    // The lines one lane up, the previous 4's last in lane 0.
+    const __m256i before =
+        _mm256_alignr_epi8(lines, _mm256_permute2x128_si256(lines_before, lines, 0x21), 8);
+    const __m256i same = _mm256_cmpeq_epi64(lines, before);
+    const unsigned differs =
+        ~static_cast<unsigned>(_mm256_movemask_pd(_mm256_castsi256_pd(same))) & 0xfu;
+    last_line = addrs[i + 3] >> line_shift;  // before the store may overwrite it
+    const __m256i to_front =
+        _mm256_loadu_si256(reinterpret_cast<const __m256i*>(kToFront[differs].data()));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(addrs.data() + kept),
+                        _mm256_permutevar8x32_epi32(a, to_front));
+    kept += static_cast<size_t>(std::popcount(differs));
     lines_before = lines;
   }
 #endif

@@ -272,10 +272,19 @@ uint64_t varint_stops64(const uint8_t* p) {
 
 // The zig-zag value of a varint of `len` (1..8) bytes, given the 8 little-endian bytes at its
 // start: the low 7 bits of each of its bytes, concatenated.
-// pext only where it is known to be fast: AMD before Zen 3 has BMI2 with a microcoded pext (tens
-// to hundreds of cycles), and every AVX-512 machine has a fast one; elsewhere shifts and masks.
+// pext only where the target is known to have a fast one (one micro-op, 3 cycles): every
+// AVX-512 machine, AMD from Zen 3 and the Intel cores from Haswell on. AMD before Zen 3 (Zen 1
+// and 2, Excavator) has BMI2 with a microcoded pext (tens to hundreds of cycles). The compiler's
+// target macros decide (GCC and Clang define __znver3__, __haswell__ ... for -march=<cpu> and
+// -march=native); a BMI2 target without one (-march=x86-64-v3, -mbmi2) takes shifts and masks.
+#if defined(__BMI2__) &&                                                                \
+    (defined(__AVX512F__) || defined(__znver3__) || defined(__znver4__) ||              \
+     defined(__znver5__) || defined(__haswell__) || defined(__broadwell__) ||           \
+     defined(__skylake__) || defined(__alderlake__))
+#define RTUSIM_FAST_PEXT 1
+#endif
 uint64_t varint_value(uint64_t w, unsigned len) {
-#if defined(__BMI2__) && defined(__AVX512F__)
+#if defined(RTUSIM_FAST_PEXT)
   return _pext_u64(w, _bzhi_u64(0x7f7f7f7f7f7f7f7full, len * 8));
 #else
   uint64_t x = w & (~uint64_t{0} >> (64 - 8 * len)) & 0x7f7f7f7f7f7f7f7full;
