@@ -270,9 +270,12 @@ void check_scenarios(const Scene& scene, const MemoryImage& image, const std::st
     check_log<D, P>(image, all, what);
     if constexpr (!std::is_void_v<P>) {
       // The disagreeing-lanes path is taken where origins scatter (and only there).
-      if (sc.name.rfind("scattered", 0) == 0)
+      if (sc.name.rfind("scattered", 0) == 0) {
         EXPECT_GT((mixed_splits<D, P>(image, sc.rays)), 0u) << what;
-      if (sc.name == "common origin") EXPECT_EQ((mixed_splits<D, P>(image, sc.rays)), 0u) << what;
+      }
+      if (sc.name == "common origin") {
+        EXPECT_EQ((mixed_splits<D, P>(image, sc.rays)), 0u) << what;
+      }
     }
   }
 }
