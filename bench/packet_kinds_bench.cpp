@@ -1,11 +1,13 @@
-// The host traversal's 16-ray packets (traverse_batch()) against ray by ray (traverse()) on the
-// ray batches of a Whitted wavefront frame, by kind: primary, shadow, secondary (reflection and
-// refraction); with no fetch sink, and recording every fetch in a FetchLog as the parallel
-// functional tier does (packets: each ray's fetches buffered, then handed to the log in ray
-// order; that costs more than the packets save, so the functional tier records ray by ray).
+// The host traversal's packets (traverse_batch(); 16 lanes with AVX-512, 8 with AVX2) against
+// ray by ray (traverse()) on the ray batches of a Whitted wavefront frame, by kind: primary,
+// shadow, secondary (reflection and refraction); with no fetch sink, and recording every fetch
+// in a FetchLog as the parallel functional tier does (packets: each ray's fetches buffered, then
+// handed to the log in ray order; that costs more than the packets save, so the functional tier
+// records ray by ray).
 // Usage: packet_kinds_bench [SCENE ...]  (names under $RTUSIM_SCENES; default sponza and kitchen)
 #include <cstdio>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "app/run_config.h"
@@ -55,6 +57,9 @@ int main(int argc, char** argv) {
   std::vector<std::string> scenes(argv + 1, argv + argc);
   if (scenes.empty()) scenes = {"sponza_dabrovic", "kitchen"};
   const int w = 512, h = 512, reps = 5;
+  std::string packets = "kd-tree ray by ray (no packets)";  // the RATIO lines' name
+  if constexpr (!std::is_void_v<HostRayPacket>)
+    packets = "kd-tree " + std::to_string(HostRayPacket::kLanes) + "-ray packets";
   std::printf("%-16s %-10s %9s %9s %9s %7s %9s %9s %7s\n", "scene", "kind", "rays", "1_Mray/s",
               "pkt_Mray/s", "ratio", "1log_Mr/s", "pklog_Mr/s", "ratio");
   for (const std::string& name : scenes) {
@@ -127,7 +132,7 @@ int main(int argc, char** argv) {
                   median(one_log) / 1e6, median(pkt_log) / 1e6, median(pkt_log) / median(one_log));
       const std::string case_name = name + " 512x512 wavefront " + kinds[k];
       bench_timing::print_ratio("packet_kinds_bench", case_name.c_str(),
-                                "kd-tree 16-ray packets", median(pkt) / 1e6,
+                                packets.c_str(), median(pkt) / 1e6,
                                 "kd-tree ray by ray", median(one) / 1e6, "Mrays/s");
     }
   }

@@ -1,6 +1,7 @@
 // Single-thread primary-ray throughput of the host kd-tree traversal, ray by ray (traverse())
-// and in 16-ray packets (traverse_batch(), 16x1 strips of the scan order, and 4x4 tiles),
-// against Embree's rtcIntersect1 and its own 16-ray packets (rtcIntersect16 on the same groups)
+// and in packets (traverse_batch(): 16 lanes with AVX-512, 8 with AVX2; 16x1 strips of the scan
+// order, and 4x4 tiles), against Embree's rtcIntersect1 and its own 16-ray packets
+// (rtcIntersect16 on the same groups)
 // on the same rays in the same run, plus kd-tree build time and memory.
 // Usage: traversal_bench [--verify] [SCENE ...]  (names under $RTUSIM_SCENES; default sponza and
 // kitchen). Always prints, on stderr, a hash of the DFL hits and of their fetch stream (every
@@ -15,6 +16,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "bench_timing.h"
@@ -129,6 +131,13 @@ bool check_tiles(const MemoryImage& image, const std::vector<Ray>& rays,
   return true;
 }
 
+// The host's packets as the RATIO lines name them: "16-ray packets", "8-ray packets", or ray by
+// ray where the build has none.
+std::string packet_label() {
+  if constexpr (std::is_void_v<HostRayPacket>) return "ray by ray (no packets)";
+  else return std::to_string(HostRayPacket::kLanes) + "-ray packets";
+}
+
 double max_rss_mb() {
   rusage u{};
   getrusage(RUSAGE_SELF, &u);
@@ -233,26 +242,27 @@ int main(int argc, char** argv) {
                 pkt / emb, pkt / e16);
     std::fprintf(stderr, "checksum %g\n", checksum);
     const std::string case_name = name + " 512x512 primary";
+    const std::string packets = "kd-tree traversal, " + packet_label();
     bench_timing::print_ratio("traversal_bench", case_name.c_str(), "kd-tree traversal", kd,
                               "Embree rtcIntersect1", emb, "Mrays/s");
     bench_timing::print_ratio("traversal_bench", case_name.c_str(),
-                              "kd-tree traversal, 16-ray packets", pkt, "Embree rtcIntersect1",
+                              packets.c_str(), pkt, "Embree rtcIntersect1",
                               emb, "Mrays/s");
     bench_timing::print_ratio("traversal_bench", case_name.c_str(),
-                              "kd-tree traversal, 16-ray packets", pkt,
+                              packets.c_str(), pkt,
                               "Embree rtcIntersect16", e16, "Mrays/s");
     bench_timing::print_ratio("traversal_bench", case_name.c_str(),
-                              "kd-tree traversal, 16-ray packets of 4x4 tiles", tile,
+                              (packets + " of 4x4 tiles").c_str(), tile,
                               "Embree rtcIntersect1", emb, "Mrays/s");
     bench_timing::print_ratio("traversal_bench", case_name.c_str(),
-                              "kd-tree traversal, 16-ray packets of 4x4 tiles", tile,
+                              (packets + " of 4x4 tiles").c_str(), tile,
                               "Embree rtcIntersect16, 4x4 tiles", e16_tile, "Mrays/s");
   }
   if (!verify)
     std::printf("(medians of %d runs; ratio = kd-tree rays/s / Embree rtcIntersect1 rays/s, "
-                "pkt = kd-tree 16-ray packets (16x1 strips), e16 = Embree rtcIntersect16 on the "
+                "pkt = kd-tree %s (16x1 strips), e16 = Embree rtcIntersect16 on the "
                 "same strips (4x4 tiles: the RATIO lines); 1 thread, thread CPU time; rss_MB = growth of peak RSS during the "
                 "builds)\n",
-                reps);
+                reps, packet_label().c_str());
   return all_same ? 0 : 1;
 }

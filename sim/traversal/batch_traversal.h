@@ -1,7 +1,7 @@
-// Traversal of a batch of rays, 16 at a time in a RayPacket where AVX-512 is there (else, and
-// for rays a packet does not take, one by one with traverse()). The caller sees exactly what
-// traverse() ray by ray would give: every hit bit for bit, and every ray's fetches, ray after
-// ray in batch order.
+// Traversal of a batch of rays, 16 (AVX-512) or 8 (AVX2) at a time in a RayPacket where the
+// host has one (else, and for rays a packet does not take, one by one with traverse()). The
+// caller sees exactly what traverse() ray by ray would give: every hit bit for bit, and every
+// ray's fetches, ray after ray in batch order.
 #pragma once
 #include <algorithm>
 #include <cstddef>
@@ -34,13 +34,12 @@ struct SharedLanes {  // an order-free sink: every lane reports to it as it goes
   Sink& sink;
   Sink& lane(int) { return sink; }
 };
-#if defined(__AVX512F__)  // RayPacket exists only there
+template <int kLanes>
 struct BufferedLanes {  // any other sink: each lane's fetches kept until its turn
   static constexpr bool kDropsFetches = false;
-  FetchList buffers[RayPacket::kLanes];
+  FetchList buffers[kLanes];
   FetchList& lane(int i) { return buffers[i]; }
 };
-#endif
 
 // Ends ray `i` at the sink, if it takes ends.
 template <class Sink>
@@ -50,68 +49,82 @@ void end_ray(Sink& sink, size_t i) {
 
 }  // namespace batch_detail
 
+#if defined(RTUSIM_RAY_PACKETS)
+using HostRayPacket = RayPacket;
+#else
+using HostRayPacket = void;  // no packets: ray by ray
+#endif
+
+// traverse_batch() with packets of type `Packet` (a BasicRayPacket; void: none, ray by ray).
+template <class Decoder, class Packet, class Record, class Sink>
+void traverse_batch_with(const MemoryImage& image, std::span<const Record> rays,
+                         std::span<Hit> hits, Sink& sink) {
+  size_t begin = 0;
+  // Packets of rays [begin, begin + kLanes) in batch order; rays a packet does not take, and
+  // groups where fewer than two would share it, go one by one.
+  constexpr size_t kMinLanes = 2;
+  if constexpr (!std::is_void_v<Packet>) {
+    if (rays.size() >= kMinLanes) {
+      using Lanes = std::conditional_t<
+          std::is_same_v<Sink, NullFetchSink>, batch_detail::DroppingLanes,
+          std::conditional_t<kFetchOrderFree<Sink>, batch_detail::SharedLanes<Sink>,
+                             batch_detail::BufferedLanes<Packet::kLanes>>>;
+      Lanes lanes = [&] {
+        if constexpr (std::is_same_v<Lanes, batch_detail::SharedLanes<Sink>>) return Lanes{sink};
+        else return Lanes{};
+      }();
+      Packet packet;
+      for (; begin + kMinLanes <= rays.size(); begin += Packet::kLanes) {
+        const size_t n = std::min<size_t>(Packet::kLanes, rays.size() - begin);
+        uint32_t taken = 0;
+        for (size_t i = 0; i < n; ++i)
+          if (Packet::admits(rays[begin + i].ray)) taken |= 1u << i;
+        if (static_cast<size_t>(__builtin_popcount(taken)) < kMinLanes) {
+          for (size_t i = begin; i < begin + n; ++i) {
+            hits[i] = traverse<Decoder>(image, rays[i].ray, rays[i].any_hit(), sink);
+            batch_detail::end_ray(sink, i);
+          }
+          continue;
+        }
+        packet.clear();
+        for (uint32_t m = taken; m != 0; m &= m - 1) {
+          const int lane = __builtin_ctz(m);
+          const Record& r = rays[begin + lane];
+          packet.set_lane(lane, image, r.ray, r.any_hit());
+        }
+        packet.template traverse<Decoder>(image, lanes);
+        // Hand out in batch order: a lane's buffered fetches, or a lone ray traced now.
+        for (size_t i = 0; i < n; ++i) {
+          const size_t at = begin + i;
+          if (taken >> i & 1u) {
+            hits[at] = packet.hit(static_cast<int>(i));
+            if constexpr (std::is_same_v<Lanes, batch_detail::BufferedLanes<Packet::kLanes>>) {
+              FetchList& buf = lanes.buffers[i];
+              for (size_t k = 0; k < buf.size(); ++k)
+                sink.fetch(buf[k].stream, buf[k].addr, buf[k].bytes);
+              buf.clear();
+            }
+          } else {
+            hits[at] = traverse<Decoder>(image, rays[at].ray, rays[at].any_hit(), sink);
+          }
+          batch_detail::end_ray(sink, at);
+        }
+      }
+    }
+  }
+  for (size_t i = begin; i < rays.size(); ++i) {
+    hits[i] = traverse<Decoder>(image, rays[i].ray, rays[i].any_hit(), sink);
+    batch_detail::end_ray(sink, i);
+  }
+}
+
 // Traverses `rays` (records with `.ray` and `.any_hit()`), setting hits[i] to rays[i]'s hit.
 // The sink sees rays[i]'s fetches (fetch(stream, addr, bytes), as traverse() reports them), then
 // end_ray(i) if it has one, ray after ray in batch order. `Decoder` as in traverse().
 template <class Decoder, class Record, class Sink>
 void traverse_batch(const MemoryImage& image, std::span<const Record> rays, std::span<Hit> hits,
                     Sink& sink) {
-  size_t begin = 0;
-#if defined(__AVX512F__)
-  // Packets of rays [begin, begin + 16) in batch order; rays a packet does not take, and
-  // groups where fewer than two would share it, go one by one.
-  constexpr size_t kMinLanes = 2;
-  if (rays.size() >= kMinLanes) {
-    using Lanes = std::conditional_t<
-        std::is_same_v<Sink, NullFetchSink>, batch_detail::DroppingLanes,
-        std::conditional_t<kFetchOrderFree<Sink>, batch_detail::SharedLanes<Sink>,
-                           batch_detail::BufferedLanes>>;
-    Lanes lanes = [&] {
-      if constexpr (std::is_same_v<Lanes, batch_detail::SharedLanes<Sink>>) return Lanes{sink};
-      else return Lanes{};
-    }();
-    RayPacket packet;
-    for (; begin + kMinLanes <= rays.size(); begin += RayPacket::kLanes) {
-      const size_t n = std::min<size_t>(RayPacket::kLanes, rays.size() - begin);
-      uint32_t taken = 0;
-      for (size_t i = 0; i < n; ++i)
-        if (RayPacket::admits(rays[begin + i].ray)) taken |= 1u << i;
-      if (static_cast<size_t>(__builtin_popcount(taken)) < kMinLanes) {
-        for (size_t i = begin; i < begin + n; ++i) {
-          hits[i] = traverse<Decoder>(image, rays[i].ray, rays[i].any_hit(), sink);
-          batch_detail::end_ray(sink, i);
-        }
-        continue;
-      }
-      packet.clear();
-      for (uint32_t m = taken; m != 0; m &= m - 1) {
-        const int lane = __builtin_ctz(m);
-        const Record& r = rays[begin + lane];
-        packet.set_lane(lane, image, r.ray, r.any_hit());
-      }
-      packet.traverse<Decoder>(image, lanes);
-      // Hand out in batch order: a lane's buffered fetches, or a lone ray traced now.
-      for (size_t i = 0; i < n; ++i) {
-        const size_t at = begin + i;
-        if (taken >> i & 1u) {
-          hits[at] = packet.hit(static_cast<int>(i));
-          if constexpr (std::is_same_v<Lanes, batch_detail::BufferedLanes>) {
-            FetchList& buf = lanes.buffers[i];
-            for (size_t k = 0; k < buf.size(); ++k) sink.fetch(buf[k].stream, buf[k].addr, buf[k].bytes);
-            buf.clear();
-          }
-        } else {
-          hits[at] = traverse<Decoder>(image, rays[at].ray, rays[at].any_hit(), sink);
-        }
-        batch_detail::end_ray(sink, at);
-      }
-    }
-  }
-#endif
-  for (size_t i = begin; i < rays.size(); ++i) {
-    hits[i] = traverse<Decoder>(image, rays[i].ray, rays[i].any_hit(), sink);
-    batch_detail::end_ray(sink, i);
-  }
+  traverse_batch_with<Decoder, HostRayPacket>(image, rays, hits, sink);
 }
 
 }  // namespace rtusim

@@ -1,7 +1,7 @@
-// Up to 16 rays traversing the kd-tree together (AVX-512): one node fetch and decode, and one
-// vector step, serve every ray that visits the node. Each ray's result is the single-ray one:
-// its hit bit for bit, and its own fetches (node, list, triangle) in the order traverse()
-// reports them for that ray alone.
+// Up to 16 rays (AVX-512; 8 with AVX2 alone) traversing the kd-tree together: one node fetch
+// and decode, and one vector step, serve every ray that visits the node. Each ray's result is
+// the single-ray one: its hit bit for bit, and its own fetches (node, list, triangle) in the
+// order traverse() reports them for that ray alone.
 //
 // Why it is exact: at an interior node every lane computes traverse()'s own float operations
 // (same expressions, same order, std::min/std::max written as their comparisons) and so takes
@@ -14,19 +14,23 @@
 // cannot drop it, since a ray's current t_min never exceeds its hit's t. Stack entries carry a
 // lane mask; a lane finished in a leaf leaves the live mask. Leaves test each lane with the
 // single-ray leaf code. Lanes the packet does not take (admits() false) go through traverse().
+// The lane width is a parameter (`Simd`: PacketSimd16 or PacketSimd8, the same operations on
+// 16 or 8 floats); an inactive lane's interval values are never read, so they may be anything.
 #pragma once
-#if defined(__AVX512F__)
-#include <immintrin.h>
-
+#if defined(__AVX512F__) || defined(__AVX2__)
+#define RTUSIM_RAY_PACKETS 1
 #include <cstdint>
 
+#include "traversal/packet_simd16.h"
+#include "traversal/packet_simd8.h"
 #include "traversal/traversal.h"
 
 namespace rtusim {
 
-class RayPacket {
+template <class Simd>
+class BasicRayPacket {
  public:
-  static constexpr int kLanes = 16;
+  static constexpr int kLanes = Simd::kLanes;
 
   // What a packet traversal did (for tests).
   struct Stats {
@@ -81,25 +85,26 @@ class RayPacket {
  private:
   // Entries: at most two per interior node on the path to the node being visited.
   static constexpr int kStackDepth = 2 * TraversalState::kStackDepth;
+  using Vec = typename Simd::Vec;
+  using Mask = typename Simd::Mask;
   struct Entry {
-    __m512 t_min, t_max;  // per lane: the interval in the child
-    uint64_t addr;        // the child
-    __mmask16 lanes;      // the lanes that visit it
+    Vec t_min, t_max;  // per lane: the interval in the child
+    uint64_t addr;     // the child
+    Mask lanes;        // the lanes that visit it
   };
 
   // Reports the node fetch of every lane in `active`.
   template <class Lanes>
-  static void report_node(const MemoryImage& image, uint64_t node, __mmask16 active,
-                          Lanes& lanes) {
+  static void report_node(const MemoryImage& image, uint64_t node, Mask active, Lanes& lanes) {
     if constexpr (!Lanes::kDropsFetches)
-      for (uint32_t m = active; m != 0; m &= m - 1)
+      for (uint32_t m = Simd::bits(active); m != 0; m &= m - 1)
         lanes.lane(__builtin_ctz(m)).fetch(Stream::kNode, node, image.node_bytes);
   }
 
   // Tests a leaf's triangles for every lane in `active` (their intervals end at t_max_); lanes
   // that finish here leave the live mask.
   template <class Lanes>
-  void leaf(const MemoryImage& image, const NodeView& n, __mmask16 active, Lanes& lanes);
+  void leaf(const MemoryImage& image, const NodeView& n, Mask active, Lanes& lanes);
 
   alignas(64) float org_[3][kLanes], inv_dir_[3][kLanes], abs_inv_dir_[3][kLanes];
   alignas(64) float org_side_[3][kLanes];  // TraversalState::org_side
@@ -113,16 +118,16 @@ class RayPacket {
   Stats stats_;
 };
 
+template <class Simd>
 template <class Lanes>
-void RayPacket::leaf(const MemoryImage& image, const NodeView& n, __mmask16 active,
-                     Lanes& lanes) {
+void BasicRayPacket<Simd>::leaf(const MemoryImage& image, const NodeView& n, Mask active,
+                                Lanes& lanes) {
   if (n.prim_count == 0) {
     // An empty leaf finishes the lanes whose hit lies inside their interval.
-    live_ &= ~static_cast<uint32_t>(_mm512_mask_cmp_ps_mask(
-        active, _mm512_load_ps(hit_t_), _mm512_load_ps(t_max_), _CMP_LE_OQ));
+    live_ &= ~Simd::bits(Simd::le(active, Simd::load(hit_t_), Simd::load(t_max_)));
     return;
   }
-  for (uint32_t m = active; m != 0; m &= m - 1) {
+  for (uint32_t m = Simd::bits(active); m != 0; m &= m - 1) {
     const int i = __builtin_ctz(m);
     // leaf_step() up to its pop, with the single-ray code.
     const bool done = detail::leaf_triangles(wray_[i], hits_[i], ray_t_max_[i],
@@ -134,63 +139,57 @@ void RayPacket::leaf(const MemoryImage& image, const NodeView& n, __mmask16 acti
   }
 }
 
+template <class Simd>
 template <class Decoder, class Lanes>
-[[gnu::flatten]] void RayPacket::traverse(const MemoryImage& image, Lanes& lanes) {
+[[gnu::flatten]] void BasicRayPacket<Simd>::traverse(const MemoryImage& image, Lanes& lanes) {
+  using S = Simd;
   Entry stack[kStackDepth];
   int sp = 0;
-  __mmask16 active = static_cast<__mmask16>(live_);
-  if (active == 0) return;
+  Mask active = S::from_bits(live_);
+  if (!S::any(active)) return;
   uint64_t node = image.root_addr;
-  __m512 t_min = _mm512_load_ps(t_min_), t_max = _mm512_load_ps(t_max_);
-  const __m512 zero = _mm512_setzero_ps(), ulp_margin = _mm512_set1_ps(0x1p-19f);
+  Vec t_min = S::load(t_min_), t_max = S::load(t_max_);
+  const Vec zero = S::zero(), ulp_margin = S::set1(0x1p-19f);
   for (;;) {
     // Descent: interior nodes until a leaf, each one vector step for the active lanes.
     report_node(image, node, active, lanes);
     NodeView n = Decoder::decode(image, node);
     while (!n.leaf) {
       const int a = n.axis;
-      const __m512 split = _mm512_set1_ps(n.split);
-      const __m512 o = _mm512_load_ps(org_[a]);
+      const Vec split = S::set1(n.split);
+      const Vec o = S::load(org_[a]);
       // interior_step()'s values, lane by lane: below_first, t_plane, slack.
-      const __mmask16 below =
-          _mm512_mask_cmp_ps_mask(active, _mm512_load_ps(org_side_[a]), split, _CMP_LT_OQ);
-      const __m512 t_plane = _mm512_mul_ps(_mm512_sub_ps(split, o), _mm512_load_ps(inv_dir_[a]));
-      const __m512 slack = _mm512_mul_ps(
-          _mm512_mul_ps(_mm512_add_ps(_mm512_abs_ps(split), _mm512_abs_ps(o)),
-                        _mm512_load_ps(abs_inv_dir_[a])),
-          ulp_margin);
-      const __m512 lo = _mm512_sub_ps(t_plane, slack), hi = _mm512_add_ps(t_plane, slack);
+      const Mask below = S::lt(active, S::load(org_side_[a]), split);
+      const Vec t_plane = S::mul(S::sub(split, o), S::load(inv_dir_[a]));
+      const Vec slack =
+          S::mul(S::mul(S::add(S::abs(split), S::abs(o)), S::load(abs_inv_dir_[a])), ulp_margin);
+      const Vec lo = S::sub(t_plane, slack), hi = S::add(t_plane, slack);
       // Its cases: near only (plane behind or beyond), far only (entered past the plane), both.
-      const __mmask16 near_only =
-          _mm512_mask_cmp_ps_mask(active, t_plane, zero, _CMP_LE_OQ) |
-          _mm512_mask_cmp_ps_mask(active, lo, t_max, _CMP_GT_OQ);
-      const __mmask16 far_only =
-          _mm512_mask_cmp_ps_mask(active & ~near_only, hi, t_min, _CMP_LT_OQ);
-      const __mmask16 both = active & ~near_only & ~far_only;
-      const __mmask16 near_set = active & ~far_only, far_set = active & ~near_only;
+      const Mask near_only = S::le(active, t_plane, zero) | S::gt(active, lo, t_max);
+      const Mask far_only = S::lt(active & ~near_only, hi, t_min);
+      const Mask both = active & ~near_only & ~far_only;
+      const Mask near_set = active & ~far_only, far_set = active & ~near_only;
       // Intervals: near [t_min, min(t_max, hi)], far [max(t_min, lo), t_max] for `both` lanes;
       // a one-child lane keeps its own.
-      const __m512 near_max = _mm512_mask_blend_ps(
-          _mm512_mask_cmp_ps_mask(both, hi, t_max, _CMP_LT_OQ), t_max, hi);
-      const __m512 far_min = _mm512_mask_blend_ps(
-          _mm512_mask_cmp_ps_mask(both, t_min, lo, _CMP_LT_OQ), t_min, lo);
+      const Vec near_max = S::blend(S::lt(both, hi, t_max), t_max, hi);
+      const Vec far_min = S::blend(S::lt(both, t_min, lo), t_min, lo);
       // Visits in order: below (below-first lanes' near set), above (below-first lanes' far
       // set, above-first lanes' near set), below again (above-first lanes' far set).
-      const __mmask16 above = active & ~below;
-      const __mmask16 first = below & near_set;
-      const __mmask16 second = (below & far_set) | (above & near_set);
-      const __mmask16 third = above & far_set;
-      stats_.mixed_splits += (below != 0) & (above != 0);
-      if (third != 0) [[unlikely]]
+      const Mask above = active & ~below;
+      const Mask first = below & near_set;
+      const Mask second = (below & far_set) | (above & near_set);
+      const Mask third = above & far_set;
+      stats_.mixed_splits += S::any(below) & S::any(above);
+      if (S::any(third)) [[unlikely]]
         stack[sp++] = {far_min, t_max, n.below_addr, third};
-      const __m512 second_min = _mm512_mask_blend_ps(below, t_min, far_min);
-      const __m512 second_max = _mm512_mask_blend_ps(below, near_max, t_max);
-      if (first != 0) {
-        if (second != 0) stack[sp++] = {second_min, second_max, n.above_addr, second};
+      const Vec second_min = S::blend(below, t_min, far_min);
+      const Vec second_max = S::blend(below, near_max, t_max);
+      if (S::any(first)) {
+        if (S::any(second)) stack[sp++] = {second_min, second_max, n.above_addr, second};
         node = n.below_addr;
         active = first;
         t_max = near_max;
-      } else if (second != 0) {
+      } else if (S::any(second)) {
         node = n.above_addr;
         active = second;
         t_min = second_min;
@@ -204,23 +203,29 @@ template <class Decoder, class Lanes>
       report_node(image, node, active, lanes);
       n = Decoder::decode(image, node);
     }
-    _mm512_store_ps(t_max_, t_max);
+    S::store(t_max_, t_max);
     leaf(image, n, active, lanes);
     // Pop: the next entry with a lane still live whose interval can hold a closer hit.
-    const __m512 hit_t = _mm512_load_ps(hit_t_);
-    active = 0;
-    while (sp > 0 && active == 0) {
+    const Vec hit_t = S::load(hit_t_);
+    active = S::from_bits(0);
+    while (sp > 0 && !S::any(active)) {
       const Entry& e = stack[--sp];
       // traversal_pop()'s test: a lane skips the entry when e.t_min > hit.t.
-      active = _mm512_mask_cmp_ps_mask(e.lanes & static_cast<__mmask16>(live_), e.t_min, hit_t,
-                                       _CMP_NGT_UQ);
+      active = S::ngt(e.lanes & S::from_bits(live_), e.t_min, hit_t);
       node = e.addr;
       t_min = e.t_min;
       t_max = e.t_max;
     }
-    if (active == 0) return;
+    if (!S::any(active)) return;
   }
 }
+
+// The host's packet: 16 lanes where AVX-512 is there, else 8 (AVX2).
+#if defined(__AVX512F__)
+using RayPacket = BasicRayPacket<PacketSimd16>;
+#else
+using RayPacket = BasicRayPacket<PacketSimd8>;
+#endif
 
 }  // namespace rtusim
 #endif

@@ -1,12 +1,15 @@
 // Batch (packet) traversal against traverse() ray by ray: on every layout, every ray's hit bit
 // for bit and its own fetch sequence (stream, address, size) in order, for coherent camera rays,
 // rays from scattered origins (lanes that disagree on a node's near side), rays with zero
-// direction components, rays that miss the scene, closest-hit and any-hit mixed.
+// direction components, rays that miss the scene, closest-hit and any-hit mixed. With the host's
+// packets (16 lanes with AVX-512, 8 with AVX2, none otherwise), and on AVX-512 hosts with the
+// 8-lane ones as well.
 #include <gtest/gtest.h>
 
 #include <cstring>
 #include <random>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "kdtree/sah_builder.h"
@@ -129,6 +132,13 @@ std::vector<Scenario> scenarios(const Scene& scene, const MemoryImage& image, ui
   return out;
 }
 
+// A packet type's lanes (1: no packets).
+template <class P>
+constexpr int lanes_of() {
+  if constexpr (std::is_void_v<P>) return 1;
+  else return P::kLanes;
+}
+
 bool same_fetches(const std::vector<RecordedFetch>& a, const std::vector<RecordedFetch>& b) {
   if (a.size() != b.size()) return false;
   for (size_t i = 0; i < a.size(); ++i)
@@ -137,9 +147,9 @@ bool same_fetches(const std::vector<RecordedFetch>& a, const std::vector<Recorde
   return true;
 }
 
-// Traces `rays` with traverse_batch() and ray by ray on `image`, whole and in odd-sized parts;
-// expects the same hits and per-ray fetch sequences.
-template <class D>
+// Traces `rays` with traverse_batch_with<D, P>() and ray by ray on `image`, whole and in
+// odd-sized parts; expects the same hits and per-ray fetch sequences.
+template <class D, class P>
 void check(const MemoryImage& image, std::span<const Record> rays, const std::string& what) {
   SCOPED_TRACE(what + " (" + std::to_string(rays.size()) + " rays)");
   std::vector<Hit> want(rays.size());
@@ -157,7 +167,7 @@ void check(const MemoryImage& image, std::span<const Record> rays, const std::st
   // A sink that keeps the order: every ray's own fetches, then its end, in batch order.
   std::vector<Hit> got(rays.size());
   PerRaySink sink;
-  traverse_batch<D>(image, rays, std::span<Hit>(got), sink);
+  traverse_batch_with<D, P>(image, rays, std::span<Hit>(got), sink);
   ASSERT_EQ(sink.ended.size(), rays.size());
   for (size_t i = 0; i < rays.size(); ++i) {
     ASSERT_EQ(sink.ended[i], i);
@@ -171,10 +181,10 @@ void check(const MemoryImage& image, std::span<const Record> rays, const std::st
   // Dropping the fetches, and counting them (order-free): the same hits and totals.
   std::vector<Hit> dropped(rays.size());
   NullFetchSink none;
-  traverse_batch<D>(image, rays, std::span<Hit>(dropped), none);
+  traverse_batch_with<D, P>(image, rays, std::span<Hit>(dropped), none);
   CountSink counts;
   std::vector<Hit> counted(rays.size());
-  traverse_batch<D>(image, rays, std::span<Hit>(counted), counts);
+  traverse_batch_with<D, P>(image, rays, std::span<Hit>(counted), counts);
   for (size_t i = 0; i < rays.size(); ++i) {
     ASSERT_TRUE(same_bits(dropped[i], want[i])) << "ray " << i;
     ASSERT_TRUE(same_bits(counted[i], want[i])) << "ray " << i;
@@ -196,7 +206,7 @@ struct ReplayList {
 };
 
 // Records `rays` into a FetchLog ray by ray and batched: the same replay and the same encoding.
-template <class D>
+template <class D, class P>
 void check_log(const MemoryImage& image, std::span<const Record> rays, const std::string& what) {
   SCOPED_TRACE(what + " log");
   std::vector<RayRecord> records(rays.size());
@@ -219,7 +229,8 @@ void check_log(const MemoryImage& image, std::span<const Record> rays, const std
     void end_ray(size_t i) { log.end_ray(rays[i]); }
   } sink{got, records};
   std::vector<Hit> hits(records.size());
-  traverse_batch<D>(image, std::span<const RayRecord>(records), std::span<Hit>(hits), sink);
+  traverse_batch_with<D, P>(image, std::span<const RayRecord>(records), std::span<Hit>(hits),
+                            sink);
   ReplayList a, b;
   want.replay(a);
   got.replay(b);
@@ -227,26 +238,46 @@ void check_log(const MemoryImage& image, std::span<const Record> rays, const std
   EXPECT_EQ(want.size_bytes(), got.size_bytes());
 }
 
-// Interior steps, over the 16-ray packets of `rays`, whose lanes disagreed on the near side.
-template <class D>
+// Interior steps, over the packets (type P) of `rays`, whose lanes disagreed on the near side.
+template <class D, class P>
 uint64_t mixed_splits(const MemoryImage& image, const std::vector<Record>& rays) {
   uint64_t mixed = 0;
-#if defined(__AVX512F__)
   batch_detail::DroppingLanes lanes;
-  for (size_t b = 0; b < rays.size(); b += RayPacket::kLanes) {
-    RayPacket p;
+  for (size_t b = 0; b < rays.size(); b += P::kLanes) {
+    P p;
     p.clear();
-    for (size_t i = b; i < std::min(rays.size(), b + RayPacket::kLanes); ++i)
-      if (RayPacket::admits(rays[i].ray))
+    for (size_t i = b; i < std::min(rays.size(), b + P::kLanes); ++i)
+      if (P::admits(rays[i].ray))
         p.set_lane(static_cast<int>(i - b), image, rays[i].ray, rays[i].any_hit());
-    p.traverse<D>(image, lanes);
+    p.template traverse<D>(image, lanes);
     mixed += p.stats().mixed_splits;
   }
-#else
-  (void)image;
-  (void)rays;
-#endif
   return mixed;
+}
+
+// Every scenario on `image` with packets of type P (void: ray by ray).
+template <class D, class P>
+void check_scenarios(const Scene& scene, const MemoryImage& image, const std::string& kind,
+                     uint32_t seed) {
+  for (const Scenario& sc : scenarios(scene, image, seed)) {
+    const std::string what = scene.source + " " + kind + " " + sc.name + " (" +
+                             std::to_string(lanes_of<P>()) + " lanes)";
+    const std::span<const Record> all(sc.rays);
+    check<D, P>(image, all, what);
+    check<D, P>(image, all.subspan(5, 37), what);  // groups across the packet boundaries
+    check<D, P>(image, all.subspan(3, 1), what);
+    check<D, P>(image, all.subspan(0, 17), what);
+    check_log<D, P>(image, all, what);
+    if constexpr (!std::is_void_v<P>) {
+      // The disagreeing-lanes path is taken where origins scatter (and only there).
+      if (sc.name.rfind("scattered", 0) == 0) {
+        EXPECT_GT((mixed_splits<D, P>(image, sc.rays)), 0u) << what;
+      }
+      if (sc.name == "common origin") {
+        EXPECT_EQ((mixed_splits<D, P>(image, sc.rays)), 0u) << what;
+      }
+    }
+  }
 }
 
 void check_scene(const Scene& scene, uint32_t seed) {
@@ -254,21 +285,10 @@ void check_scene(const Scene& scene, uint32_t seed) {
   for (const std::string& kind : layout_kinds()) {
     const MemoryImage image = make_layout(kind)->build_image(tree, scene);
     with_layout_decoder(image, [&]<class D>() {
-      for (const Scenario& sc : scenarios(scene, image, seed)) {
-        const std::string what = scene.source + " " + kind + " " + sc.name;
-        const std::span<const Record> all(sc.rays);
-        check<D>(image, all, what);
-        check<D>(image, all.subspan(5, 37), what);  // groups across the packet boundaries
-        check<D>(image, all.subspan(3, 1), what);
-        check<D>(image, all.subspan(0, 17), what);
-        check_log<D>(image, all, what);
+      check_scenarios<D, HostRayPacket>(scene, image, kind, seed);
 #if defined(__AVX512F__)
-        // The disagreeing-lanes path is taken where origins scatter (and only there).
-        if (sc.name.rfind("scattered", 0) == 0)
-          EXPECT_GT(mixed_splits<D>(image, sc.rays), 0u) << what;
-        if (sc.name == "common origin") EXPECT_EQ(mixed_splits<D>(image, sc.rays), 0u) << what;
+      check_scenarios<D, BasicRayPacket<PacketSimd8>>(scene, image, kind, seed);
 #endif
-      }
     });
   }
 }
