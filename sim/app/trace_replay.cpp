@@ -11,6 +11,7 @@
 #include <immintrin.h>
 #endif
 
+#include "cache/lru4_cache.h"
 #include "cache/set_assoc_cache.h"
 
 namespace rtusim {
@@ -80,7 +81,13 @@ size_t drop_repeated_lines(std::span<uint64_t> addrs, unsigned line_shift, uint6
   return kept;
 }
 
-TraceReplayCounts replay_trace(TraceReader& reader, const CacheParams& params) {
+namespace {
+
+// Reads `reader` to its end through `c` (a BasicSetAssocCache or a Lru4Cache); counts fetches and
+// the repeats counted instead of replayed into `out`.
+template <class Cache>
+void replay_chunks(TraceReader& reader, Cache& c, const CacheParams& params,
+                   TraceReplayCounts& out, uint64_t& repeats) {
   const TraceHeader& h = reader.header();
   // A fetch reads node_bytes at its address (bin) or the line's size field (din with sizes); a
   // plain din line is one line access (as Dinero IV reads it). A fetch that crosses a line
@@ -89,47 +96,60 @@ TraceReplayCounts replay_trace(TraceReader& reader, const CacheParams& params) {
   std::vector<uint64_t> addrs;
   std::vector<uint32_t> sizes;
   addrs.reserve(kReplayChunkRecords);
-  SetAssocCache cache(params);
-  TraceReplayCounts out;
-  uint64_t repeats = 0;  // single-line accesses to the line accessed just before: hits
   const uint64_t line_mask = params.line_bytes - 1;
   const unsigned line_shift = static_cast<unsigned>(std::countr_zero(params.line_bytes));
   uint64_t last_line = ~uint64_t{0};  // line of the previous single-line access (none yet)
   while (reader.next(addrs, sizes, kReplayChunkRecords)) {
     out.fetches += addrs.size();
-    cache.visit([&](auto& c) {
-      if (!sizes.empty()) {
-        out.sized = true;
-        for (size_t i = 0; i < addrs.size(); ++i) c.access_range(addrs[i], std::max(sizes[i], 1u));
-        last_line = ~uint64_t{0};
-        return;
-      }
-      // Some fetch crosses a line boundary iff the largest offset in a line does (a max
-      // reduction: vectorised, unlike an or of comparisons).
-      uint64_t top_offset = 0;
-      for (const uint64_t a : addrs) top_offset = std::max(top_offset, a & line_mask);
-      if (top_offset + h.node_bytes > params.line_bytes) {
-        for (const uint64_t a : addrs) c.access_range(a, h.node_bytes);
-        last_line = ~uint64_t{0};
-        return;
-      }
-      // An access to the line accessed just before is a hit that changes no replacement state
-      // (touching the most recent way again is a no-op for lru, tree-plru, fifo and random), so
-      // such repeats are counted here and only the others go through the cache. Policies behind
-      // the virtual seam get every access.
-      using Cache = std::decay_t<decltype(c)>;
-      if constexpr (std::is_same_v<Cache, BasicSetAssocCache<DynamicPolicy>>) {
-        c.replay(addrs);
-      } else {
-        const size_t kept = drop_repeated_lines(addrs, line_shift, last_line);
-        repeats += addrs.size() - kept;
-        c.replay(std::span<const uint64_t>(addrs.data(), kept));
-      }
-    });
+    if (!sizes.empty()) {
+      out.sized = true;
+      for (size_t i = 0; i < addrs.size(); ++i) c.access_range(addrs[i], std::max(sizes[i], 1u));
+      last_line = ~uint64_t{0};
+      continue;
+    }
+    // Some fetch crosses a line boundary iff the largest offset in a line does (a max
+    // reduction: vectorised, unlike an or of comparisons).
+    uint64_t top_offset = 0;
+    for (const uint64_t a : addrs) top_offset = std::max(top_offset, a & line_mask);
+    if (top_offset + h.node_bytes > params.line_bytes) {
+      for (const uint64_t a : addrs) c.access_range(a, h.node_bytes);
+      last_line = ~uint64_t{0};
+      continue;
+    }
+    // An access to the line accessed just before is a hit that changes no replacement state
+    // (touching the most recent way again is a no-op for lru, tree-plru, fifo and random), so
+    // such repeats are counted here and only the others go through the cache. Policies behind
+    // the virtual seam get every access.
+    if constexpr (std::is_same_v<Cache, BasicSetAssocCache<DynamicPolicy>>) {
+      c.replay(addrs);
+    } else {
+      const size_t kept = drop_repeated_lines(addrs, line_shift, last_line);
+      repeats += addrs.size() - kept;
+      c.replay(std::span<const uint64_t>(addrs.data(), kept));
+    }
   }
-  out.accesses = cache.accesses() + repeats;
-  out.misses = cache.misses();
-  out.dram_bytes = cache.bytes_from_dram();
+}
+
+}  // namespace
+
+TraceReplayCounts replay_trace(TraceReader& reader, const CacheParams& params) {
+  TraceReplayCounts out;
+  uint64_t repeats = 0;  // single-line accesses to the line accessed just before: hits
+  const auto run = [&](auto& c) {
+    replay_chunks(reader, c, params, out, repeats);
+    out.accesses = c.accesses() + repeats;
+    out.misses = c.misses();
+    out.dram_bytes = c.bytes_from_dram();
+  };
+  validate(params, "cache");
+  if (Lru4Cache::fits(params)) {
+    // The default L1's shape: the recency-ordered form (the same counts, a cheaper update).
+    Lru4Cache cache(params);
+    run(cache);
+  } else {
+    SetAssocCache cache(params);
+    cache.visit(run);
+  }
   return out;
 }
 

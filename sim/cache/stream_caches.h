@@ -95,9 +95,7 @@ class FetchCache {
   void count_dram_bursts(Stream s, uint64_t fetches, uint64_t bursts) {
     StreamCounters& c = counters_[static_cast<int>(s)];
     c.fetches += fetches;
-    c.accesses += bursts;
-    c.misses += bursts;
-    c.dram_bytes += bursts * kDramBurstBytes;
+    add_dram_bursts(c, bursts);
   }
 
   // Calls f(sink) with a sink equivalent to this FetchCache whose node stream goes to the
@@ -165,12 +163,16 @@ class FetchCache {
     }
   };
 
-  // Counts one fetch of `bytes` (> 0) at `addr` read straight from DRAM; returns its DRAM bytes.
-  static uint64_t count_to_dram(StreamCounters& c, uint64_t addr, uint32_t bytes) {
-    const uint64_t bursts = dram_bursts(addr, bytes);
+  // Counts `bursts` DRAM bursts read straight from DRAM (each an access and a miss).
+  static void add_dram_bursts(StreamCounters& c, uint64_t bursts) {
     c.accesses += bursts;
     c.misses += bursts;
     c.dram_bytes += bursts * kDramBurstBytes;
+  }
+  // Counts one fetch of `bytes` (> 0) at `addr` read straight from DRAM; returns its DRAM bytes.
+  static uint64_t count_to_dram(StreamCounters& c, uint64_t addr, uint32_t bytes) {
+    const uint64_t bursts = dram_bursts(addr, bytes);
+    add_dram_bursts(c, bursts);
     return bursts * kDramBurstBytes;
   }
 

@@ -14,7 +14,7 @@ struct NodeOnlySink {
   void fetch(Stream s, uint64_t addr, uint32_t /*bytes*/) {
     if (s == Stream::kNode) recorder.node_fetch(addr);
   }
-  void end_ray(uint32_t /*pixel*/, RayKind) {}
+  void end_ray(uint32_t /*pixel*/, RayKind, uint64_t /*direct_dram_bytes*/) {}
 };
 
 }  // namespace

@@ -86,8 +86,8 @@ class FetchLog {
   }
 
   // Calls sink.fetch(stream, addr, bytes) for every logged fetch in issue order, and after each
-  // ray's fetches sink.end_ray(pixel, kind, direct_dram_bytes) when the sink takes the ray's
-  // counted DRAM bytes, else sink.end_ray(pixel, kind).
+  // ray's fetches sink.end_ray(pixel, kind, direct_dram_bytes), the last being the DRAM bytes
+  // of the ray's fetches that were counted instead of logged.
   template <class Sink>
   void replay(Sink& sink) const {
     const uint64_t* w = words_.data();
@@ -105,10 +105,7 @@ class FetchLog {
           pos += 3;
         }
       }
-      if constexpr (requires { sink.end_ray(r.pixel, r.kind, r.direct_bytes); })
-        sink.end_ray(r.pixel, r.kind, r.direct_bytes);
-      else
-        sink.end_ray(r.pixel, r.kind);
+      sink.end_ray(r.pixel, r.kind, r.direct_bytes);
     }
   }
 

@@ -24,7 +24,7 @@ void HostBackend::replay(const FetchLog& log) {
   struct CountingSink {
     FetchCounts& counts;
     void fetch(Stream s, uint64_t addr, uint32_t bytes) { counts.fetch(s, addr, bytes); }
-    void end_ray(uint32_t, RayKind) {}
+    void end_ray(uint32_t, RayKind, uint64_t /*direct_dram_bytes*/) {}
   } sink{counts_};
   log.replay(sink);
 }

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The C++ cache model against an independent one: a din trace exported by `rtusim trace`, replayed
-# through tests/cache_ref.py (plain Python), gives exactly the l1.misses of `rtusim run`, for
-# lru, fifo and tree-plru, two geometries (8K/4-way/64B and 4K/2-way/32B), dfl and odfl
-# (8-byte nodes never straddle a line, so one fetch is one line access).
+# through tests/cache_ref.py (plain Python), gives exactly the l1.misses of `rtusim run` and the
+# misses of `rtusim replay` of that trace, for lru, fifo and tree-plru, two geometries
+# (8K/4-way/64B and 4K/2-way/32B), dfl and odfl (8-byte nodes never straddle a line, so one
+# fetch is one line access).
 set -uo pipefail
 rtusim=$1; src=$2
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
@@ -26,6 +27,14 @@ for layout in dfl odfl; do
         pass=$((pass+1))
       else
         echo "FAIL $layout $size/$assoc/$line $policy: run l1.misses $got, cache_ref.py $want"; fail=$((fail+1))
+      fi
+      # `rtusim replay` of the same trace (its own cache forms: 4-way LRU is Lru4Cache).
+      replayed=$("$rtusim" replay "$tmp/$layout.din" --set l1.size=$size --set l1.assoc=$assoc \
+        --set l1.line=$line --set l1.policy=$policy | awk '$1 == "misses" {print $2}')
+      if [ -n "$want" ] && [ "$replayed" = "$want" ]; then
+        pass=$((pass+1))
+      else
+        echo "FAIL $layout $size/$assoc/$line $policy: replay misses $replayed, cache_ref.py $want"; fail=$((fail+1))
       fi
     done
   done

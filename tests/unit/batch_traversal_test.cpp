@@ -200,7 +200,7 @@ struct ReplayList {
   void fetch(Stream s, uint64_t addr, uint32_t bytes) {
     items.insert(items.end(), {uint64_t{static_cast<uint8_t>(s)}, addr, bytes});
   }
-  void end_ray(uint32_t pixel, RayKind kind) {
+  void end_ray(uint32_t pixel, RayKind kind, uint64_t /*direct_dram_bytes*/) {
     items.insert(items.end(), {~uint64_t{0}, pixel, static_cast<uint64_t>(kind)});
   }
 };

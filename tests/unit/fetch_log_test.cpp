@@ -20,9 +20,11 @@ struct Collector {
   void fetch(Stream s, uint64_t addr, uint32_t bytes) {
     fetches.emplace_back(static_cast<int>(s), addr, bytes);
   }
-  void end_ray(uint32_t pixel, RayKind kind) {
+  std::vector<uint64_t> direct;  // each ray's counted DRAM bytes
+  void end_ray(uint32_t pixel, RayKind kind, uint64_t direct_bytes) {
     rays.emplace_back(pixel, kind);
     ray_ends.push_back(fetches.size());
+    direct.push_back(direct_bytes);
   }
 };
 
@@ -108,13 +110,7 @@ TEST(FetchLogTest, CountsWhatTheReplayDoesNotNeed) {
   EXPECT_EQ(log.direct_counts()[1].bursts, 2u);
   EXPECT_EQ(log.direct_counts()[2].fetches, 2u);
   EXPECT_EQ(log.direct_counts()[2].bursts, 3u);
-  struct Charges : Collector {
-    std::vector<uint64_t> direct;
-    void end_ray(uint32_t pixel, RayKind kind, uint64_t direct_bytes) {
-      Collector::end_ray(pixel, kind);
-      direct.push_back(direct_bytes);
-    }
-  } c;
+  Collector c;
   log.replay(c);
   EXPECT_EQ(c.fetches, (std::vector<Fetch>{{0, 128, 8}, {0, 184, 16}, {0, 180, 4}, {0, 0, 0}}));
   EXPECT_EQ(c.ray_ends, (std::vector<size_t>{4, 4}));
