@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Runs each libFuzzer target (config, gltf, trace) for SECONDS on its seed corpus under
-# ASan+UBSan, and prints the executions and any finding. New inputs go to a scratch corpus
+# Runs the libFuzzer targets (config, gltf, trace) at once, each for SECONDS on its seed corpus
+# under ASan+UBSan, and prints the executions and any finding. New inputs go to a scratch corpus
 # (the seeds in tests/fuzz/corpus/ stay as committed); a crash input is saved in the scratch
 # directory and fails the script.
 #   scripts/fuzz.sh [SECONDS=60] [BUILD_DIR=build-sanitize]
@@ -13,15 +13,26 @@ bash scripts/sanitize.sh --build-only "$build"
 work="$(mktemp -d "${TMPDIR:-/tmp}/rtusim-fuzz.XXXXXX")"
 echo "fuzz: ${secs} s per target, scratch corpus and findings in $work"
 declare -A seeds=([config]="config" [gltf]="gltf glb" [trace]="trace")
-status=0
+# The three targets run at once (each is one process, for the same wall time whatever the
+# cores), then their results are read in order.
 for t in config gltf trace; do
   mkdir -p "$work/$t/corpus" "$work/$t/crashes"
   for s in ${seeds[$t]}; do cp tests/fuzz/corpus/"$s"/* "$work/$t/corpus/"; done
+  ( if ASAN_OPTIONS=detect_leaks=0:allocator_may_return_null=1 \
+       UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+       "$build/tests/fuzz/fuzz_$t" -max_total_time="$secs" -rss_limit_mb=2048 -timeout=10 \
+         -print_final_stats=1 -artifact_prefix="$work/$t/crashes/" "$work/$t/corpus" \
+         >"$work/$t/log.txt" 2>&1; then
+      echo 0 > "$work/$t/status"
+    else
+      echo 1 > "$work/$t/status"
+    fi ) &
+done
+wait
+status=0
+for t in config gltf trace; do
   log="$work/$t/log.txt"
-  if ASAN_OPTIONS=detect_leaks=0:allocator_may_return_null=1 \
-     UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-     "$build/tests/fuzz/fuzz_$t" -max_total_time="$secs" -rss_limit_mb=2048 -timeout=10 \
-       -print_final_stats=1 -artifact_prefix="$work/$t/crashes/" "$work/$t/corpus" >"$log" 2>&1; then
+  if [ "$(cat "$work/$t/status")" = 0 ]; then
     result="no finding"
   else
     result="FINDING (see $log and $work/$t/crashes/)"

@@ -82,7 +82,7 @@ void TraversalUnit::run_batch() {
   if (by_call)
     for (const MemoryHorizon* m : horizons_) m->call_driven()->set_driven_by_call(true);
   for (uint32_t i = 0; i < slots_.size(); ++i) start_ray(i, t0);
-  if (vcd_) trace(t0);
+  if (vcd_) sample_vcd(t0);
   // The horizon, and the first cycle at or after it (kNever: none).
   uint64_t h = 0, h_cycle = 0;
   horizon_moved_ = true;
@@ -126,7 +126,7 @@ void TraversalUnit::run_batch() {
     }
     ++events_processed_;
     process<Decoder>(slots_[slot], slot, t);
-    if (vcd) [[unlikely]] trace(t);
+    if (vcd) [[unlikely]] sample_vcd(t);
   }
   // The kernel catches up with the unit: the batch ends at its last event.
   if (by_call)
@@ -144,7 +144,7 @@ void TraversalUnit::set_vcd(VcdWriter* vcd) {
   vcd_isect_ = vcd_->add("isect_tests", 64);
 }
 
-void TraversalUnit::trace(uint64_t cycle) {
+void TraversalUnit::sample_vcd(uint64_t cycle) {
   const uint64_t at_ps = cycle * period_;
   vcd_->sample(at_ps, vcd_active_, active_);
   vcd_->sample(at_ps, vcd_steps_, steps_);

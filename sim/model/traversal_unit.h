@@ -165,7 +165,7 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
     return h;
   }
   uint64_t cycle_at_or_after(uint64_t t_ps) const { return cycles_.div_up(t_ps); }
-  void trace(uint64_t cycle);  // samples the VCD variables, if any
+  void sample_vcd(uint64_t cycle);  // samples the VCD variables, if any
 
   UnitParams p_;
   uint64_t period_;

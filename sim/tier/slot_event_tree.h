@@ -61,7 +61,7 @@ class SlotEventTree {
     uint64_t* const k = key_.data();
     size_t i = leaves_ + slot;
     k[i] = key;
-    auto up = [&] [[gnu::always_inline]] {
+    auto up = [&]() __attribute__((always_inline)) {
       key = std::min(key, k[i ^ 1]);
       i >>= 1;
       k[i] = key;

@@ -21,10 +21,8 @@ std::variant<SlotEventWheel<1>, SlotEventWheel<2>, SlotEventTree> make_events(ui
 
 }  // namespace
 
-TimedEngine::TimedEngine(const MemoryImage& image, const CycleParams& timing,
-                         int rays_in_flight)
-    : image_(image),
-      unit_(timing.unit),
+TimedEngine::TimedEngine(const CycleParams& timing, int rays_in_flight)
+    : unit_(timing.unit),
       period_ps_(timing.unit.clock_period_ps),
       cycles_(period_ps_ ? period_ps_ : 1),
       data_line_(timing.unit.data_line_bytes),

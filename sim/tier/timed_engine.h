@@ -62,8 +62,8 @@ class TimedEngine {
     uint64_t primary_misses = 0, merged_misses = 0, mshr_stall_cycles = 0;  // the node L1's
   };
 
-  // `timing` derived (CycleParams::derive()); `image` must outlive the engine.
-  TimedEngine(const MemoryImage& image, const CycleParams& timing, int rays_in_flight);
+  // `timing` derived (CycleParams::derive()).
+  TimedEngine(const CycleParams& timing, int rays_in_flight);
   ~TimedEngine();
 
   // Starts a batch when the previous one's rays have ended. Its window starts when its ray
@@ -148,7 +148,6 @@ class TimedEngine {
   // The cycle a DRAM read of `bytes` at `addr` sent at cycle t completes.
   uint64_t dram_read(uint64_t addr, uint32_t bytes, Stream s, uint64_t t);
 
-  const MemoryImage& image_;
   UnitParams unit_;
   uint64_t period_ps_;
   FastDivider cycles_;     // ps to cycles: div_up(ps) is the first cycle boundary at or after

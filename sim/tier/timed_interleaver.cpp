@@ -23,7 +23,7 @@ TimedInterleaver::TimedInterleaver(const MemoryImage& image, const CycleParams& 
       // first rays, all started at once: at least four times as many warming rays.
       warmup_rays_(std::max<size_t>(static_cast<size_t>(std::max(warmup_rays, 0)),
                                     4 * static_cast<size_t>(rays_in_flight))),
-      engine_(std::make_unique<TimedEngine>(image, timing, rays_in_flight)) {}
+      engine_(std::make_unique<TimedEngine>(timing, rays_in_flight)) {}
 
 TimedInterleaver::~TimedInterleaver() = default;
 
@@ -98,7 +98,7 @@ void TimedInterleaver::trace_runs(std::span<const RayRecord> rays, std::span<Hit
     if (j == 0) {
       r.engine = std::move(engine_);
     } else {
-      r.engine = std::make_unique<TimedEngine>(image_, timing_, rays_in_flight_);
+      r.engine = std::make_unique<TimedEngine>(timing_, rays_in_flight_);
       r.caches = std::make_unique<FetchCache>(caches);
     }
   }

@@ -179,7 +179,7 @@ template <class Decoder, class Lanes>
       const Mask first = below & near_set;
       const Mask second = (below & far_set) | (above & near_set);
       const Mask third = above & far_set;
-      stats_.mixed_splits += S::any(below) & S::any(above);
+      stats_.mixed_splits += S::any(below) && S::any(above);
       if (S::any(third)) [[unlikely]]
         stack[sp++] = {far_min, t_max, n.below_addr, third};
       const Vec second_min = S::blend(below, t_min, far_min);
