@@ -12,7 +12,10 @@ fuzz_secs="${2:-20}"
 launcher=()
 command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 if [ ! -f "$build/build.ninja" ]; then
+  # -O1 and line tables only, as the sanitizers' documentation suggests: a sixth less compile
+  # time than -O2 -g, and the reports still name file and line.
   CXX=clang++-14 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only -DNDEBUG" \
     -DRTUSIM_SANITIZE=ON -DRTUSIM_FUZZ=ON -DRTUSIM_BUILD_RTL=OFF -DRTUSIM_BUILD_BENCH=OFF \
     "${launcher[@]}" >/dev/null
 fi
@@ -23,7 +26,8 @@ export ASAN_OPTIONS=detect_leaks=0 UBSAN_OPTIONS=print_stacktrace=1:halt_on_erro
 export RTUSIM_SCENES="${RTUSIM_SCENES:-$(cd .. && pwd)/shared/scenes}"
 # cli.bad_input expects the RTL's own message for l1.model=rtl, and cli.registries runs every
 # tier, rtl included: a build without the RTL cannot do either (the main build runs both;
-# bad_input_catalogue covers bad_input's other cases here).
+# bad_input_catalogue covers bad_input's other cases here). cli.sweep_dask runs the binary's
+# sweep path that cli.sweep runs here, under dask's scheduler: two minutes of the same code.
 (cd "$build" && ctest --output-on-failure --parallel "$(nproc)" --timeout 900 -L 'unit|cli' -LE rtl \
-   -E '^cli\.(bad_input|registries)$')
+   -E '^cli\.(bad_input|registries|sweep_dask)$')
 bash scripts/fuzz.sh "$fuzz_secs" "$build"

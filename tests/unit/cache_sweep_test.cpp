@@ -11,6 +11,7 @@
 #include "cache/set_assoc_cache.h"
 #include "sweep/cache_sweep.h"
 #include "sweep/sweep_pipeline.h"
+#include "sanitized.h"
 
 namespace rtusim {
 namespace {
@@ -119,7 +120,8 @@ void expect_equal_to_one_cache_each(const std::vector<const char*>& policies,
                                     const std::vector<uint32_t>& assocs) {
   const uint64_t image_bytes = 1 << 16;
   expect_sweeps_equal_one_cache_each(configs_of(policies, {16, 32, 64}, {256, 1024, 4096}, assocs),
-                                     image_bytes, make_stream(image_bytes, 200000, 1));
+                                     image_bytes,
+                                     make_stream(image_bytes, testing::sanitized_share(200000), 1));
 }
 
 TEST(CacheSweep, EqualsOneCachePerConfiguration) {
@@ -138,7 +140,8 @@ TEST(CacheSweep, EncodedLinesAtEveryLineSize) {
   // coarser, with fetches spanning many lines and ending at the image's last byte; LRU beside
   // the other policies, and the other policies alone (no line stream).
   const uint64_t image_bytes = 1 << 18;
-  const auto stream = make_stream(image_bytes, 60000, 2, /*long_fetches=*/true);
+  const auto stream = make_stream(image_bytes, testing::sanitized_share(60000), 2,
+                                  /*long_fetches=*/true);
   const std::vector<uint64_t> sizes = {1024, 4096};
   const std::vector<uint32_t> assocs = {1, 2, 16, 0};
   expect_sweeps_equal_one_cache_each(
