@@ -14,25 +14,22 @@ work="$(mktemp -d "${TMPDIR:-/tmp}/rtusim-fuzz.XXXXXX")"
 echo "fuzz: ${secs} s per target, scratch corpus and findings in $work"
 declare -A seeds=([config]="config" [gltf]="gltf glb" [trace]="trace")
 # The three targets run at once (each is one process, for the same wall time whatever the
-# cores), then their results are read in order.
+# cores); each one's exit status is then read with `wait` on its pid, in order.
+declare -A pids
 for t in config gltf trace; do
   mkdir -p "$work/$t/corpus" "$work/$t/crashes"
   for s in ${seeds[$t]}; do cp tests/fuzz/corpus/"$s"/* "$work/$t/corpus/"; done
-  ( if ASAN_OPTIONS=detect_leaks=0:allocator_may_return_null=1 \
-       UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-       "$build/tests/fuzz/fuzz_$t" -max_total_time="$secs" -rss_limit_mb=2048 -timeout=10 \
-         -print_final_stats=1 -artifact_prefix="$work/$t/crashes/" "$work/$t/corpus" \
-         >"$work/$t/log.txt" 2>&1; then
-      echo 0 > "$work/$t/status"
-    else
-      echo 1 > "$work/$t/status"
-    fi ) &
+  ASAN_OPTIONS=detect_leaks=0:allocator_may_return_null=1 \
+  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+    "$build/tests/fuzz/fuzz_$t" -max_total_time="$secs" -rss_limit_mb=2048 -timeout=10 \
+      -print_final_stats=1 -artifact_prefix="$work/$t/crashes/" "$work/$t/corpus" \
+      >"$work/$t/log.txt" 2>&1 &
+  pids[$t]=$!
 done
-wait
 status=0
 for t in config gltf trace; do
   log="$work/$t/log.txt"
-  if [ "$(cat "$work/$t/status")" = 0 ]; then
+  if wait "${pids[$t]}"; then
     result="no finding"
   else
     result="FINDING (see $log and $work/$t/crashes/)"

@@ -15,8 +15,9 @@ command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 if [ ! -f "$build/build.ninja" ]; then
   # -Og: half the compile time of -O3, and results must not depend on the optimisation level
   # either (no -ffast-math; -ffp-contract=off everywhere).
-  cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-Og -DNDEBUG" \
-    -DRTUSIM_NATIVE=OFF -DRTUSIM_BUILD_RTL=OFF -DRTUSIM_BUILD_BENCH=OFF "${launcher[@]}" >/dev/null
+  cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release \
+    -DCMAKE_CXX_FLAGS_RELEASE="-Og -DNDEBUG" -DRTUSIM_NATIVE=OFF -DRTUSIM_BUILD_RTL=OFF \
+    -DRTUSIM_BUILD_BENCH=OFF "${launcher[@]}" >/dev/null
 fi
 cmake --build "$build" --parallel "$(nproc)" --target rtusim
 "$build/rtusim" regress
