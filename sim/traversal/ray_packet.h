@@ -13,17 +13,23 @@
 // out the other's subtree inactive, its hit unchanged; the pop test (entry t_min > hit t) then
 // cannot drop it, since a ray's current t_min never exceeds its hit's t. Stack entries carry a
 // lane mask; a lane finished in a leaf leaves the live mask. Leaves test each lane with the
-// single-ray leaf code. Lanes the packet does not take (admits() false) go through traverse().
+// single-ray leaf code, or (8 lanes, two or more active) each triangle against the active lanes
+// at once with WatertightLanes8 (each lane the single-ray test's float operations; its rare
+// double-precision cases with the single-ray code): a lane's triangles in leaf order, each one
+// reported to that lane just before its test, stopping at an any-hit lane's first hit, as the
+// single-ray loop does. Lanes the packet does not take (admits() false) go through traverse().
 // The lane width is a parameter (`Simd`: PacketSimd16 or PacketSimd8, the same operations on
 // 16 or 8 floats); an inactive lane's interval values are never read, so they may be anything.
 #pragma once
 #if defined(__AVX512F__) || defined(__AVX2__)
 #define RTUSIM_RAY_PACKETS 1
 #include <cstdint>
+#include <type_traits>
 
 #include "traversal/packet_simd16.h"
 #include "traversal/packet_simd8.h"
 #include "traversal/traversal.h"
+#include "traversal/watertight_lanes8.h"
 
 namespace rtusim {
 
@@ -35,6 +41,8 @@ class BasicRayPacket {
   // What a packet traversal did (for tests).
   struct Stats {
     uint64_t mixed_splits = 0;  // interior steps whose lanes disagreed on the near side
+    uint64_t lane_leaves = 0;   // leaves whose triangles were tested against the lanes at once
+    uint64_t lane_scalar_tests = 0;  // of their lane tests, those done with the single-ray code
   };
 
   // Whether a ray may be a lane: a finite origin and every direction component nonzero and
@@ -63,17 +71,17 @@ class BasicRayPacket {
       org_side_[a][lane] = s.org_side[a];
     }
     wray_[lane] = s.wray;
+    if constexpr (kLeafLanes) wlanes_.set_lane(lane, s.wray);
     ray_t_max_[lane] = ray.t_max;
     t_min_[lane] = s.t_min;
     t_max_[lane] = s.t_max;
-    hits_[lane] = s.hit;
-    hit_t_[lane] = s.hit.t;
+    set_hit(lane, s.hit);
     const uint32_t bit = 1u << lane;
     any_hit_ = any_hit ? any_hit_ | bit : any_hit_ & ~bit;
     live_ = s.done ? live_ & ~bit : live_ | bit;
   }
 
-  const Hit& hit(int lane) const { return hits_[lane]; }
+  Hit hit(int lane) const { return {hit_t_[lane], hit_tri_[lane], hit_u_[lane], hit_v_[lane]}; }
   const Stats& stats() const { return stats_; }
 
   // Traverses the live lanes to the end. `lanes.lane(i)` is lane i's fetch sink (the single-ray
@@ -87,6 +95,11 @@ class BasicRayPacket {
   static constexpr int kStackDepth = 2 * TraversalState::kStackDepth;
   using Vec = typename Simd::Vec;
   using Mask = typename Simd::Mask;
+  // Whether leaves test a triangle against the lanes at once (8 lanes), and from how many
+  // active lanes.
+  static constexpr bool kLeafLanes = std::is_same_v<Simd, PacketSimd8>;
+  static constexpr int kLeafLanesMin = 2;
+  struct NoLeafLanes {};
   struct Entry {
     Vec t_min, t_max;  // per lane: the interval in the child
     uint64_t addr;     // the child
@@ -105,14 +118,26 @@ class BasicRayPacket {
   // that finish here leave the live mask.
   template <class Lanes>
   void leaf(const MemoryImage& image, const NodeView& n, Mask active, Lanes& lanes);
+  // The same for a leaf with triangles, each tested against the active lanes at once.
+  template <class Lanes>
+  void leaf_lanes(const MemoryImage& image, const NodeView& n, Mask active, Lanes& lanes);
+
+  void set_hit(int lane, const Hit& h) {
+    hit_t_[lane] = h.t;
+    hit_tri_[lane] = h.triangle;
+    hit_u_[lane] = h.u;
+    hit_v_[lane] = h.v;
+  }
 
   alignas(64) float org_[3][kLanes], inv_dir_[3][kLanes], abs_inv_dir_[3][kLanes];
   alignas(64) float org_side_[3][kLanes];  // TraversalState::org_side
   alignas(64) float t_min_[kLanes], t_max_[kLanes];  // at set_lane(); the leaf's interval
-  alignas(64) float hit_t_[kLanes];                  // hits_[i].t
-  float ray_t_max_[kLanes];
-  Hit hits_[kLanes];
+  // Each lane's hit so far: t, triangle, u, v.
+  alignas(64) float hit_t_[kLanes], hit_u_[kLanes], hit_v_[kLanes];
+  alignas(64) uint32_t hit_tri_[kLanes];
+  alignas(64) float ray_t_max_[kLanes];
   WatertightRay wray_[kLanes];
+  [[no_unique_address]] std::conditional_t<kLeafLanes, WatertightLanes8, NoLeafLanes> wlanes_;
   uint32_t any_hit_ = 0;  // lanes in any-hit mode
   uint32_t live_ = 0;     // lanes not finished
   Stats stats_;
@@ -127,15 +152,99 @@ void BasicRayPacket<Simd>::leaf(const MemoryImage& image, const NodeView& n, Mas
     live_ &= ~Simd::bits(Simd::le(active, Simd::load(hit_t_), Simd::load(t_max_)));
     return;
   }
+  if constexpr (kLeafLanes) {
+    if (__builtin_popcount(Simd::bits(active)) >= kLeafLanesMin) {
+      leaf_lanes(image, n, active, lanes);
+      return;
+    }
+  }
   for (uint32_t m = Simd::bits(active); m != 0; m &= m - 1) {
     const int i = __builtin_ctz(m);
     // leaf_step() up to its pop, with the single-ray code.
-    const bool done = detail::leaf_triangles(wray_[i], hits_[i], ray_t_max_[i],
+    Hit h = hit(i);
+    const bool done = detail::leaf_triangles(wray_[i], h, ray_t_max_[i],
                                              (any_hit_ >> i & 1u) != 0, image, n, lanes.lane(i))
                           .done;
-    hit_t_[i] = hits_[i].t;
+    set_hit(i, h);
     // As leaf_step(): finished when the hit lies inside the leaf's interval, or (any-hit) found.
-    if (done || hits_[i].t <= t_max_[i]) live_ &= ~(1u << i);
+    if (done || h.t <= t_max_[i]) live_ &= ~(1u << i);
+  }
+}
+
+template <class Simd>
+template <class Lanes>
+void BasicRayPacket<Simd>::leaf_lanes(const MemoryImage& image, const NodeView& n, Mask active,
+                                      Lanes& lanes) {
+  if constexpr (kLeafLanes) {
+    const uint8_t* bytes = image.bytes.data();
+    // Each lane's list fetch first, as leaf_triangles() reports it.
+    if constexpr (!Lanes::kDropsFetches)
+      if (n.prim_count >= 2)
+        for (uint32_t m = Simd::bits(active); m != 0; m &= m - 1)
+          lanes.lane(__builtin_ctz(m)).fetch(Stream::kList, n.list_addr, n.prim_count * 4u);
+    // The lanes still testing (an any-hit lane stops at its first hit), and their hits so far.
+    __m256 todo = _mm256_castsi256_ps(active.v);
+    __m256 ht = _mm256_load_ps(hit_t_), hu = _mm256_load_ps(hit_u_), hv = _mm256_load_ps(hit_v_);
+    __m256 htri = _mm256_load_ps(reinterpret_cast<const float*>(hit_tri_));
+    const __m256 ray_t_max = _mm256_load_ps(ray_t_max_);
+    const __m256 any_hit = _mm256_castsi256_ps(Simd::from_bits(any_hit_).v);
+    uint32_t done = 0;  // any-hit lanes that found one
+    ++stats_.lane_leaves;
+    for (uint32_t k = 0; k < n.prim_count; ++k) {
+      const uint32_t tri = detail::leaf_triangle(image, n, k);
+      const uint64_t ta = image.triangle_addr(tri);
+      if constexpr (!Lanes::kDropsFetches)
+        for (uint32_t m = static_cast<uint32_t>(_mm256_movemask_ps(todo)); m != 0; m &= m - 1)
+          lanes.lane(__builtin_ctz(m)).fetch(Stream::kTriangle, ta, MemoryImage::kTriangleBytes);
+      // record_hit()'s limit std::min(hit.t, ray_t_max): ray_t_max < hit.t ? ray_t_max : hit.t.
+      const WatertightLanes8::Outcome o =
+          wlanes_.test(bytes + ta, todo, _mm256_min_ps(ray_t_max, ht));
+      __m256 got = o.hit;
+      ht = _mm256_blendv_ps(ht, o.t, got);
+      hu = _mm256_blendv_ps(hu, o.u, got);
+      hv = _mm256_blendv_ps(hv, o.v, got);
+      htri = _mm256_blendv_ps(htri, _mm256_castsi256_ps(_mm256_set1_epi32(static_cast<int>(tri))),
+                              got);
+      if (!_mm256_testz_ps(o.scalar, o.scalar)) [[unlikely]] {
+        // The single-ray test for these lanes, on the hits so far.
+        _mm256_store_ps(hit_t_, ht);
+        _mm256_store_ps(hit_u_, hu);
+        _mm256_store_ps(hit_v_, hv);
+        _mm256_store_ps(reinterpret_cast<float*>(hit_tri_), htri);
+        uint32_t scalar_hits = 0;
+        const detail::PackedFloats v{bytes + ta};
+        for (uint32_t m = static_cast<uint32_t>(_mm256_movemask_ps(o.scalar)); m != 0; m &= m - 1) {
+          const int i = __builtin_ctz(m);
+          ++stats_.lane_scalar_tests;
+          Hit h = hit(i);
+          if (detail::record_hit(h, ray_t_max_[i], tri,
+                                 [&](float t_limit, float& t, float& bu, float& bv) {
+                                   return intersect_watertight(wray_[i], v, t_limit, t, bu, bv);
+                                 })) {
+            set_hit(i, h);
+            scalar_hits |= 1u << i;
+          }
+        }
+        ht = _mm256_load_ps(hit_t_);
+        hu = _mm256_load_ps(hit_u_);
+        hv = _mm256_load_ps(hit_v_);
+        htri = _mm256_load_ps(reinterpret_cast<const float*>(hit_tri_));
+        got = _mm256_or_ps(got, _mm256_castsi256_ps(Simd::from_bits(scalar_hits).v));
+      }
+      // Any-hit lanes that hit are done here.
+      const __m256 finished = _mm256_and_ps(got, any_hit);
+      if (!_mm256_testz_ps(finished, finished)) {
+        done |= static_cast<uint32_t>(_mm256_movemask_ps(finished));
+        todo = _mm256_andnot_ps(finished, todo);
+        if (_mm256_testz_ps(todo, todo)) break;
+      }
+    }
+    _mm256_store_ps(hit_t_, ht);
+    _mm256_store_ps(hit_u_, hu);
+    _mm256_store_ps(hit_v_, hv);
+    _mm256_store_ps(reinterpret_cast<float*>(hit_tri_), htri);
+    // As leaf_step(): finished when the hit lies inside the leaf's interval, or (any-hit) found.
+    live_ &= ~(done | Simd::bits(Simd::le(active, ht, Simd::load(t_max_))));
   }
 }
 

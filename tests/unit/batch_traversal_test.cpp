@@ -3,7 +3,8 @@
 // rays from scattered origins (lanes that disagree on a node's near side), rays with zero
 // direction components, rays that miss the scene, closest-hit and any-hit mixed. With the host's
 // packets (16 lanes with AVX-512, 8 with AVX2, none otherwise), and on AVX-512 hosts with the
-// 8-lane ones as well.
+// 8-lane ones as well. Then the 8-lane packets' leaf test (a triangle against the lanes at once)
+// on a tree of large leaves, with rays whose exact arithmetic meets its single-ray cases.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -306,6 +307,76 @@ TEST(BatchTraversal, MatchesSingleRayOnRandomSoup) {
   scene.cameras.push_back(cam);
   check_scene(scene, 2);
 }
+
+#if defined(__AVX2__)
+// The 8-lane packets' leaf statistics over the packets of `rays`.
+template <class D>
+BasicRayPacket<PacketSimd8>::Stats leaf_stats(const MemoryImage& image,
+                                              const std::vector<Record>& rays) {
+  using P = BasicRayPacket<PacketSimd8>;
+  P::Stats total;
+  batch_detail::DroppingLanes lanes;
+  for (size_t b = 0; b < rays.size(); b += P::kLanes) {
+    P p;
+    p.clear();
+    for (size_t i = b; i < std::min(rays.size(), b + P::kLanes); ++i)
+      if (P::admits(rays[i].ray))
+        p.set_lane(static_cast<int>(i - b), image, rays[i].ray, rays[i].any_hit());
+    p.template traverse<D>(image, lanes);
+    total.lane_leaves += p.stats().lane_leaves;
+    total.lane_scalar_tests += p.stats().lane_scalar_tests;
+  }
+  return total;
+}
+
+TEST(BatchTraversal, PacketLeafTestMatchesSingleRayOnLargeLeaves) {
+  // A closed grid box (shared edges) around a soup, in a shallow tree: leaves of 100+ triangles.
+  Scene scene = testing::random_soup(7, 1500);
+  testing::add_grid_box(scene, {-1.5f, -1.5f, -1.5f}, {1.5f, 1.5f, 1.5f}, 6);
+  scene.source = "soup in a box, large leaves";
+  CameraDesc cam;
+  cam.eye = {0.3f, 0.4f, 1.2f};
+  cam.target = {0.0f, 0.0f, 0.0f};
+  scene.cameras.push_back(cam);
+  KdBuildParams params;
+  params.max_depth = 4;
+  const KdTree tree = build_sah_kd_tree(scene, params);
+  // Exact arithmetic: origins on a 1/8 grid (some on the box's faces), small integer directions
+  // (none zero); closest- and any-hit mixed, some limited, some lanes left out of the packet.
+  std::mt19937 rng(3);
+  auto coarse = [&](int range) {
+    return static_cast<float>(static_cast<int>(rng() % (2 * range + 1)) - range) / 8.0f;
+  };
+  std::vector<Record> exact;
+  for (int i = 0; i < 1200; ++i) {
+    Ray r;
+    for (int a = 0; a < 3; ++a) {
+      r.origin[a] = coarse(12);
+      const int d = static_cast<int>(rng() % 4) + 1;
+      r.dir[a] = static_cast<float>(rng() % 2 ? d : -d);
+    }
+    if (i % 5 == 0) r.origin[i % 3] = i % 2 ? 1.5f : -1.5f;  // on a face of the box
+    if (i % 7 == 0) r.dir[i % 3] = 0.0f;                       // not a lane: ray by ray
+    if (i % 4 == 1) r.t_max = 0.25f + static_cast<float>(rng() % 16) / 8.0f;
+    exact.push_back({r, i % 3 == 1});
+  }
+  for (const std::string& kind : {std::string("dfl"), std::string("veb")}) {
+    const MemoryImage image = make_layout(kind)->build_image(tree, scene);
+    with_layout_decoder(image, [&]<class D>() {
+      using P = BasicRayPacket<PacketSimd8>;
+      check_scenarios<D, P>(scene, image, kind, 4);
+      const std::span<const Record> all(exact);
+      check<D, P>(image, all, kind + " exact");
+      check<D, P>(image, all.subspan(3, 29), kind + " exact");
+      check_log<D, P>(image, all, kind + " exact");
+      // The lane test ran, and handed some lanes to the single-ray code.
+      const P::Stats st = leaf_stats<D>(image, exact);
+      EXPECT_GT(st.lane_leaves, 100u) << kind;
+      EXPECT_GT(st.lane_scalar_tests, 50u) << kind;
+    });
+  }
+}
+#endif
 
 }  // namespace
 }  // namespace rtusim
