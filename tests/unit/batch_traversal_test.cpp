@@ -239,10 +239,10 @@ void check_log(const MemoryImage& image, std::span<const Record> rays, const std
   EXPECT_EQ(want.size_bytes(), got.size_bytes());
 }
 
-// Interior steps, over the packets (type P) of `rays`, whose lanes disagreed on the near side.
-template <class D, class P>
-uint64_t mixed_splits(const MemoryImage& image, const std::vector<Record>& rays) {
-  uint64_t mixed = 0;
+// Traverses `rays` in packets of type P (fetches dropped) and sums `count(packet stats)`.
+template <class D, class P, class Count>
+uint64_t sum_packet_stats(const MemoryImage& image, const std::vector<Record>& rays, Count count) {
+  uint64_t sum = 0;
   batch_detail::DroppingLanes lanes;
   for (size_t b = 0; b < rays.size(); b += P::kLanes) {
     P p;
@@ -251,9 +251,16 @@ uint64_t mixed_splits(const MemoryImage& image, const std::vector<Record>& rays)
       if (P::admits(rays[i].ray))
         p.set_lane(static_cast<int>(i - b), image, rays[i].ray, rays[i].any_hit());
     p.template traverse<D>(image, lanes);
-    mixed += p.stats().mixed_splits;
+    sum += count(p.stats());
   }
-  return mixed;
+  return sum;
+}
+
+// Interior steps, over the packets (type P) of `rays`, whose lanes disagreed on the near side.
+template <class D, class P>
+uint64_t mixed_splits(const MemoryImage& image, const std::vector<Record>& rays) {
+  return sum_packet_stats<D, P>(image, rays,
+                                [](const typename P::Stats& st) { return st.mixed_splits; });
 }
 
 // Every scenario on `image` with packets of type P (void: ray by ray).
@@ -309,26 +316,6 @@ TEST(BatchTraversal, MatchesSingleRayOnRandomSoup) {
 }
 
 #if defined(__AVX2__)
-// The 8-lane packets' leaf statistics over the packets of `rays`.
-template <class D>
-BasicRayPacket<PacketSimd8>::Stats leaf_stats(const MemoryImage& image,
-                                              const std::vector<Record>& rays) {
-  using P = BasicRayPacket<PacketSimd8>;
-  P::Stats total;
-  batch_detail::DroppingLanes lanes;
-  for (size_t b = 0; b < rays.size(); b += P::kLanes) {
-    P p;
-    p.clear();
-    for (size_t i = b; i < std::min(rays.size(), b + P::kLanes); ++i)
-      if (P::admits(rays[i].ray))
-        p.set_lane(static_cast<int>(i - b), image, rays[i].ray, rays[i].any_hit());
-    p.template traverse<D>(image, lanes);
-    total.lane_leaves += p.stats().lane_leaves;
-    total.lane_scalar_tests += p.stats().lane_scalar_tests;
-  }
-  return total;
-}
-
 TEST(BatchTraversal, PacketLeafTestMatchesSingleRayOnLargeLeaves) {
   // A closed grid box (shared edges) around a soup, in a shallow tree: leaves of 100+ triangles.
   Scene scene = testing::random_soup(7, 1500);
@@ -370,9 +357,14 @@ TEST(BatchTraversal, PacketLeafTestMatchesSingleRayOnLargeLeaves) {
       check<D, P>(image, all.subspan(3, 29), kind + " exact");
       check_log<D, P>(image, all, kind + " exact");
       // The lane test ran, and handed some lanes to the single-ray code.
-      const P::Stats st = leaf_stats<D>(image, exact);
-      EXPECT_GT(st.lane_leaves, 100u) << kind;
-      EXPECT_GT(st.lane_scalar_tests, 50u) << kind;
+      EXPECT_GT((sum_packet_stats<D, P>(image, exact,
+                                        [](const P::Stats& st) { return st.lane_leaves; })),
+                100u)
+          << kind;
+      EXPECT_GT((sum_packet_stats<D, P>(image, exact,
+                                        [](const P::Stats& st) { return st.lane_scalar_tests; })),
+                50u)
+          << kind;
     });
   }
 }

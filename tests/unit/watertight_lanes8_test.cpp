@@ -6,7 +6,7 @@
 #include "traversal/watertight_lanes8.h"
 
 #include <array>
-#include <cstring>
+#include <bit>
 #include <limits>
 #include <random>
 
@@ -19,11 +19,7 @@ namespace {
 
 #if defined(__AVX2__)
 
-uint32_t bits(float f) {
-  uint32_t b;
-  std::memcpy(&b, &f, sizeof b);
-  return b;
-}
+uint32_t bits(float f) { return std::bit_cast<uint32_t>(f); }
 
 // Coarse coordinates (multiples of 1/8 in [-4, 4]) make exact edge and vertex hits likely.
 float coordinate(std::mt19937& rng, bool coarse) {
