@@ -10,6 +10,7 @@
 
 #include <cstdint>
 
+#include "traversal/packet_simd8.h"
 #include "traversal/watertight_triangle.h"
 
 namespace rtusim {
@@ -145,7 +146,7 @@ class WatertightLanes8 {
   }
 
  private:
-  static __m256 abs(__m256 x) { return _mm256_andnot_ps(_mm256_set1_ps(-0.0f), x); }
+  static __m256 abs(__m256 x) { return PacketSimd8::abs(x); }
   // watertight_detail::max3(): std::max(std::max(a, b), c), std::max(a, b) being
   // (a < b) ? b : a, which is maxps(b, a) (b > a ? b : a), NaNs included.
   static __m256 max3(__m256 a, __m256 b, __m256 c) {

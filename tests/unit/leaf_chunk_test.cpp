@@ -16,6 +16,7 @@
 #include <gtest/gtest.h>
 
 #include "layout/memory_image.h"
+#include "test_geometry.h"
 #include "traversal/fetch_recorder.h"
 #include "traversal/traversal.h"
 #include "traversal/watertight_triangle.h"
@@ -40,19 +41,12 @@ struct Triangles {
   }
 };
 
-// A coarse coordinate (multiples of 1/8 in [-4, 4]): fans of such triangles share exact edges
-// and vertices, and rays through them meet zero barycentrics; else a fine random one.
-float coordinate(std::mt19937& rng, bool coarse) {
-  if (coarse) return static_cast<float>(static_cast<int>(rng() % 65) - 32) / 8.0f;
-  return std::uniform_real_distribution<float>(-4.0f, 4.0f)(rng);
-}
-
 Triangles random_triangles(std::mt19937& rng, int count, bool coarse) {
   Triangles tris;
   tris.bytes.assign(Triangles::kBase + 36ull * count, 0);
   for (int i = 0; i < count; ++i) {
     float v[9];
-    for (float& x : v) x = coordinate(rng, coarse);
+    for (float& x : v) x = testing::random_coordinate(rng, coarse);
     std::memcpy(tris.bytes.data() + Triangles::kBase + 36ull * i, v, sizeof v);
     tris.ids.push_back(static_cast<uint32_t>(i));
   }
@@ -118,8 +112,8 @@ TEST(LeafChunkTest, RandomTrianglesMatchTheScalarTestBitForBit) {
   const Counts n = compare_rounds(11, false, [](std::mt19937& rng, const Triangles&, int ray,
                                                 float* o, float* d) {
     for (int a = 0; a < 3; ++a) {
-      o[a] = coordinate(rng, false) * 3.0f;
-      d[a] = -o[a] * 0.25f + coordinate(rng, false) * 0.1f;
+      o[a] = testing::random_coordinate(rng, false) * 3.0f;
+      d[a] = -o[a] * 0.25f + testing::random_coordinate(rng, false) * 0.1f;
     }
     return ray % 2 ? 1e30f : 8.0f;
   });
@@ -133,7 +127,7 @@ TEST(LeafChunkTest, EdgeAndPlaneCasesGoToTheScalarTestOrMatchIt) {
                                                float* o, float* d) {
     const std::array<float, 9> v = tris.vertices(tris.ids[rng() % tris.ids.size()]);
     for (int a = 0; a < 3; ++a) {
-      o[a] = ray % 3 == 0 ? v[a] : coordinate(rng, true) * 2.0f;
+      o[a] = ray % 3 == 0 ? v[a] : testing::random_coordinate(rng, true) * 2.0f;
       d[a] = static_cast<float>(static_cast<int>(rng() % 5) - 2);
     }
     if (d[0] == 0.0f && d[1] == 0.0f && d[2] == 0.0f) d[2] = 1.0f;
@@ -217,9 +211,9 @@ TEST(LeafChunkTest, ChunkedLeafLoopMatchesTheScalarLoop) {
     for (int ray = 0; ray < 20; ++ray) {
       float o[3], d[3];
       for (int a = 0; a < 3; ++a) {
-        o[a] = coordinate(rng, coarse) * 3.0f;
+        o[a] = testing::random_coordinate(rng, coarse) * 3.0f;
         d[a] = coarse ? static_cast<float>(static_cast<int>(rng() % 5) - 2)
-                      : -o[a] * 0.25f + coordinate(rng, false) * 0.1f;
+                      : -o[a] * 0.25f + testing::random_coordinate(rng, false) * 0.1f;
       }
       if (d[0] == 0.0f && d[1] == 0.0f && d[2] == 0.0f) d[2] = 1.0f;
       const WatertightRay wray(glm::vec3(o[0], o[1], o[2]), glm::vec3(d[0], d[1], d[2]));

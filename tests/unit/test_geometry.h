@@ -24,6 +24,13 @@ inline void finish(Scene& s) {
   if (s.materials.empty()) s.materials.push_back(Material{});
 }
 
+// A coarse coordinate (multiples of 1/8 in [-4, 4]): triangles of such vertices share exact
+// edges and vertices, and rays through them meet zero barycentrics; else a fine random one.
+inline float random_coordinate(std::mt19937& rng, bool coarse) {
+  if (coarse) return static_cast<float>(static_cast<int>(rng() % 65) - 32) / 8.0f;
+  return std::uniform_real_distribution<float>(-4.0f, 4.0f)(rng);
+}
+
 // A soup of small random triangles in [-1,1]^3 with degenerate members: axis-aligned flat
 // ones, slivers, zero-area, duplicates, and triangles on grid planes (likely split planes).
 inline Scene random_soup(uint32_t seed, int count) {

@@ -12,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include "test_geometry.h"
 #include "traversal/watertight_triangle.h"
 
 namespace rtusim {
@@ -20,12 +21,6 @@ namespace {
 #if defined(__AVX2__)
 
 uint32_t bits(float f) { return std::bit_cast<uint32_t>(f); }
-
-// Coarse coordinates (multiples of 1/8 in [-4, 4]) make exact edge and vertex hits likely.
-float coordinate(std::mt19937& rng, bool coarse) {
-  if (coarse) return static_cast<float>(static_cast<int>(rng() % 65) - 32) / 8.0f;
-  return std::uniform_real_distribution<float>(-4.0f, 4.0f)(rng);
-}
 
 struct Counts {
   int hits = 0, misses = 0, scalar = 0, left_out = 0;
@@ -41,7 +36,7 @@ Counts compare_rounds(uint32_t seed, int rounds, bool coarse, MakeRay make_ray) 
     // The triangle's nine floats with a guard float after them (the test reads floats 1..8 as
     // one 8-float load: nothing past the ninth).
     alignas(32) std::array<float, 10> v{};
-    for (int i = 0; i < 9; ++i) v[i] = coordinate(rng, coarse);
+    for (int i = 0; i < 9; ++i) v[i] = testing::random_coordinate(rng, coarse);
     if (round % 5 == 0) v[3 + rng() % 6] = v[rng() % 3];  // a degenerate (or sliver) member
     v[9] = std::numeric_limits<float>::quiet_NaN();
     WatertightLanes8 lanes;
@@ -105,7 +100,7 @@ TEST(WatertightLanes8, RandomRaysMatchTheSingleRayTestBitForBit) {
     const float b = std::uniform_real_distribution<float>(-0.2f, 0.8f)(rng);
     for (int k = 0; k < 3; ++k) {
       target[k] = v[k] + a * (v[3 + k] - v[k]) + b * (v[6 + k] - v[k]);
-      o[k] = coordinate(rng, false) * 3.0f;
+      o[k] = testing::random_coordinate(rng, false) * 3.0f;
       d[k] = target[k] - o[k];
     }
   });
@@ -123,7 +118,7 @@ TEST(WatertightLanes8, EdgeAndPlaneCasesGoToTheSingleRayTestOrMatchIt) {
                                                       float* o, float* d) {
     const int corner = static_cast<int>(rng() % 3);
     for (int k = 0; k < 3; ++k) {
-      o[k] = lane % 3 == 0 ? v[3 * corner + k] : coordinate(rng, true) * 2.0f;
+      o[k] = lane % 3 == 0 ? v[3 * corner + k] : testing::random_coordinate(rng, true) * 2.0f;
       d[k] = static_cast<float>(static_cast<int>(rng() % 5) - 2);
     }
     if (d[0] == 0.0f && d[1] == 0.0f && d[2] == 0.0f) d[2] = 1.0f;
