@@ -74,6 +74,7 @@ template <class Decoder>
 void TraversalUnit::run_batch() {
   const uint64_t t0 = cycle_at_or_after(now_ps());
   last_cycle_ = t0;
+  end_cycle_ = t0;
   const bool vcd = vcd_ != nullptr;  // in a register: the loop's stores may alias vcd_
   // When every memory component can be driven by call, the unit acts for them at their
   // horizons and the kernel only catches up at the end of the batch.
@@ -131,7 +132,7 @@ void TraversalUnit::run_batch() {
   // The kernel catches up with the unit: the batch ends at its last event.
   if (by_call)
     for (const MemoryHorizon* m : horizons_) m->call_driven()->set_driven_by_call(false);
-  const uint64_t end_ps = last_cycle_ * period_, now = now_ps();
+  const uint64_t end_ps = std::max(last_cycle_, end_cycle_) * period_, now = now_ps();
   if (end_ps > now) wait(ps(end_ps - now));
 }
 
@@ -175,7 +176,7 @@ void TraversalUnit::start_ray(uint32_t slot, uint64_t t) {
 void TraversalUnit::finish_ray(uint32_t slot, uint64_t t) {
   Slot& s = slots_[slot];
   host_.complete(s.ray, s.st.hit);
-  last_cycle_ = std::max(last_cycle_, t);
+  end_cycle_ = std::max(end_cycle_, t);
   s.active = false;
   --active_;
   start_ray(slot, t);
@@ -279,6 +280,9 @@ void TraversalUnit::process(Slot& s, uint32_t index, uint64_t t) {
       return;
     }
     ++steps_;
+    // The step pipeline takes one step a cycle (the calendar's bookings).
+    if (t == last_step_cycle_ && steps_ > 1) [[unlikely]] two_steps(t);
+    last_step_cycle_ = t;
     // The ray's next node is read at its next step, after the other rays' events in flight:
     // bring it into the host's cache meanwhile (no effect on the simulation).
     __builtin_prefetch(image_.bytes.data() + s.st.node);
@@ -408,6 +412,10 @@ tlm::tlm_sync_enum TraversalUnit::nb_transport_bw(tlm::tlm_generic_payload& tran
                                                   sc_core::sc_time& delay) {
   if (phase == tlm::BEGIN_RESP) arrived(trans, now_ps() + delay.value());
   return tlm::TLM_COMPLETED;
+}
+
+void TraversalUnit::two_steps(uint64_t cycle) {
+  throw std::logic_error("traversal unit: two steps booked at cycle " + std::to_string(cycle));
 }
 
 void TraversalUnit::memory_error(const tlm::tlm_generic_payload& trans) {

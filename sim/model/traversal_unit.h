@@ -157,6 +157,7 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
     if (trans.get_response_status() != tlm::TLM_OK_RESPONSE) [[unlikely]] memory_error(trans);
   }
   [[noreturn, gnu::cold]] static void memory_error(const tlm::tlm_generic_payload& trans);
+  [[noreturn, gnu::cold]] static void two_steps(uint64_t cycle);
   // Inline: asked at every move of a horizon, from the run loop.
   [[gnu::always_inline]] uint64_t horizon() const {
     uint64_t h = MemoryHorizon::kNever;
@@ -227,7 +228,12 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
     s.ready = std::max(s.ready, ready);
     --s.pending;
   }
-  uint64_t last_cycle_ = 0;  // of the last event processed
+  // The last entry taken from the queue (never ahead of the one being processed: the step
+  // calendar forgets the words before it), and the latest end of a ray in the batch, which may
+  // be later (a ray ends when its leaf's tests do): the batch ends at the later of the two.
+  uint64_t last_cycle_ = 0;
+  uint64_t end_cycle_ = 0;
+  uint64_t last_step_cycle_ = 0;  // of the last step taken
 
   uint64_t steps_ = 0, leaf_steps_ = 0, isect_tests_ = 0, rays_ = 0;
   uint64_t stack_overflows_ = 0;
