@@ -281,7 +281,7 @@ void TraversalUnit::process(Slot& s, uint32_t index, uint64_t t) {
     }
     ++steps_;
     // The step pipeline takes one step a cycle (the calendar's bookings).
-    if (t == last_step_cycle_ && steps_ > 1) [[unlikely]] two_steps(t);
+    if (t == last_step_cycle_) [[unlikely]] two_steps(t);
     last_step_cycle_ = t;
     // The ray's next node is read at its next step, after the other rays' events in flight:
     // bring it into the host's cache meanwhile (no effect on the simulation).

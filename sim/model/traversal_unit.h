@@ -233,7 +233,7 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
   // be later (a ray ends when its leaf's tests do): the batch ends at the later of the two.
   uint64_t last_cycle_ = 0;
   uint64_t end_cycle_ = 0;
-  uint64_t last_step_cycle_ = 0;  // of the last step taken
+  uint64_t last_step_cycle_ = ~uint64_t{0};  // of the last step taken (none: all ones)
 
   uint64_t steps_ = 0, leaf_steps_ = 0, isect_tests_ = 0, rays_ = 0;
   uint64_t stack_overflows_ = 0;
