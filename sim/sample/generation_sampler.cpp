@@ -21,6 +21,11 @@ void GenerationSampler::check(std::span<const Hit> tier, std::span<const Hit> pl
       throw std::logic_error("sampled wavefront: the tier's hit differs from plain traversal's");
 }
 
+std::span<Hit> GenerationSampler::tier_hits_room(size_t n) {
+  tier_hits_.resize(tier_hits_.size() + n);
+  return std::span<Hit>(tier_hits_).last(n);
+}
+
 void GenerationSampler::warm(std::span<const RayRecord> batch, size_t first) {
   const uint64_t at = batch_start_ + first;
   const uint64_t from = std::max(at - std::min<uint64_t>(at, warm_rays_), next_unsent_);
@@ -37,8 +42,9 @@ void GenerationSampler::warm(std::span<const RayRecord> batch, size_t first) {
         std::span<const Hit>(tail_hits_).last(earlier));
   if (earlier < rays.size()) {
     const size_t begin = size_t(from + earlier - batch_start_);
-    std::copy(scratch_.begin() + earlier, scratch_.end(), tier_hits_.begin() + begin);
-    sent_.emplace_back(begin, first);
+    sent_.push_back({begin, first, tier_hits_.size()});
+    const std::span<Hit> room = tier_hits_room(first - begin);
+    std::copy(scratch_.begin() + earlier, scratch_.end(), room.begin());
   }
   rays_warmed_ += rays.size();
 }
@@ -48,7 +54,7 @@ void GenerationSampler::trace(std::span<const RayRecord> rays, std::span<Hit> hi
   tbb::task_group plain;
   plain.run([&] { plain_.trace(rays, hits); });
   try {
-    tier_hits_.assign(rays.size(), Hit{});
+    tier_hits_.clear();
     sent_.clear();
     Stats before, after;
     size_t i = 0;
@@ -63,9 +69,8 @@ void GenerationSampler::trace(std::span<const RayRecord> rays, std::span<Hit> hi
       while (end < rays.size() && unit_of_pixel_[rays[end].pixel] == unit) ++end;
       warm(rays, i);
       tier_.write_stats(before);
-      tier_.backend().trace(rays.subspan(i, end - i),
-                            std::span<Hit>(tier_hits_).subspan(i, end - i));
-      sent_.emplace_back(i, end);
+      sent_.push_back({i, end, tier_hits_.size()});
+      tier_.backend().trace(rays.subspan(i, end - i), tier_hits_room(end - i));
       tier_.write_stats(after);
       next_unsent_ = batch_start_ + end;
       SampledFrame::add_extensive_change(before, after, values_[unit]);
@@ -78,9 +83,9 @@ void GenerationSampler::trace(std::span<const RayRecord> rays, std::span<Hit> hi
     throw;
   }
   plain.wait();
-  for (const auto& [begin, end] : sent_)
-    check(std::span<const Hit>(tier_hits_).subspan(begin, end - begin),
-          hits.subspan(begin, end - begin));
+  for (const Sent& s : sent_)
+    check(std::span<const Hit>(tier_hits_).subspan(s.hits, s.end - s.begin),
+          hits.subspan(s.begin, s.end - s.begin));
   // The sequence's last warm_rays_ rays, for warming runs early in the next batch.
   const size_t keep = std::min(rays.size(), size_t(warm_rays_));
   tail_.insert(tail_.end(), rays.end() - keep, rays.end());

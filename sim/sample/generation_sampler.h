@@ -17,8 +17,8 @@
 #pragma once
 #include <cstdint>
 #include <map>
+#include <span>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include "tier/tier.h"
@@ -63,8 +63,15 @@ class GenerationSampler final : public TraceBackend {
   std::vector<RayRecord> tail_;  // the last warm_rays_ rays of the previous batches
   std::vector<Hit> tail_hits_;
   std::vector<Hit> scratch_;
-  std::vector<Hit> tier_hits_;  // the tier's hits of the current batch's rays it traced
-  std::vector<std::pair<size_t, size_t>> sent_;  // the current batch's spans it traced
+  // The current batch's spans the tier traced, and their hits from it (one after another).
+  struct Sent {
+    size_t begin, end;  // in the batch
+    size_t hits;        // the first one's in tier_hits_
+  };
+  std::vector<Sent> sent_;
+  std::vector<Hit> tier_hits_;
+  // Room for `n` more of the tier's hits (a span at the end of tier_hits_).
+  std::span<Hit> tier_hits_room(size_t n);
 };
 
 }  // namespace rtusim

@@ -301,6 +301,11 @@ void WhittedTracer::render_wavefront(const PinholeCamera& camera,
     const size_t blocks = for_blocks(n, [&](size_t b, size_t begin, size_t end) {
       Block& blk = wf.blocks[b];
       blk.spawned.clear();
+      // Room for the most a block can spawn, so that the buffers never grow by copying (the
+      // pages are touched only as they fill).
+      blk.spawned.shadow_rays.reserve((end - begin) * lights_.size());
+      blk.spawned.shadow_terms.reserve((end - begin) * lights_.size());
+      blk.spawned.secondary.reserve((end - begin) * 2);
       blk.base.resize(end - begin);
       blk.shadows.assign(end - begin, 0);
       blk.kinds = {};
