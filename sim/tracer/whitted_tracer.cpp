@@ -50,7 +50,8 @@ struct WhittedTracer::Wavefront {
   // One block of kBlockRays consecutive rays of a generation, shaded on any thread.
   struct Block {
     Spawned spawned;
-    std::vector<glm::vec3> base;      // per ray: emission + ambient of its hit
+    // Per ray: emission + ambient of its hit; in the first generation then its contribution.
+    std::vector<glm::vec3> base;
     std::vector<uint32_t> shadows;    // per ray: its shadow rays
     std::array<uint64_t, kRayKinds> kinds{};
     size_t shadow_begin = 0;     // the block's first shadow ray in the generation's shadow batch
@@ -60,12 +61,11 @@ struct WhittedTracer::Wavefront {
   static constexpr size_t kBlockRays = 1024;
 
   std::vector<RayRecord> rays;  // the generation: the batch the backend takes
-  std::vector<PathState> states;
+  std::vector<PathState> states;  // empty in the first generation: every ray is a root
   std::vector<Hit> hits;
   std::vector<Block> blocks;
   std::vector<RayRecord> shadow_rays;  // the generation's shadow batch
   std::vector<Hit> shadow_hits;
-  std::vector<glm::vec3> first;  // the first generation's contributions, per ray
   std::vector<Contribution> later;
   std::vector<RayRecord> next_rays;
   std::vector<PathState> next_states;
@@ -279,7 +279,7 @@ void WhittedTracer::render_wavefront(const PinholeCamera& camera,
 
   // The first generation: a primary ray per pixel.
   wf.rays.resize(pixels.size());
-  wf.states.assign(pixels.size(), PathState{});
+  wf.states.clear();
   for_blocks(pixels.size(), [&](size_t, size_t begin, size_t end) {
     for (size_t i = begin; i < end; ++i) {
       RayRecord& rec = wf.rays[i];
@@ -291,8 +291,10 @@ void WhittedTracer::render_wavefront(const PinholeCamera& camera,
   });
   wf.later.clear();
 
+  const PathState root;
   for (bool first = true; !wf.rays.empty(); first = false) {
     const size_t n = wf.rays.size();
+    auto state = [&](size_t i) -> const PathState& { return first ? root : wf.states[i]; };
     wf.hits.assign(n, Hit{});
     backend_.trace(wf.rays, wf.hits);
 
@@ -313,7 +315,7 @@ void WhittedTracer::render_wavefront(const PinholeCamera& camera,
         ++blk.kinds[static_cast<int>(wf.rays[i].kind)];
         if (!wf.hits[i].valid()) continue;
         const size_t before = blk.spawned.shadow_rays.size();
-        blk.base[i - begin] = shade(wf.rays[i], wf.states[i], wf.hits[i], blk.spawned);
+        blk.base[i - begin] = shade(wf.rays[i], state(i), wf.hits[i], blk.spawned);
         blk.shadows[i - begin] = static_cast<uint32_t>(blk.spawned.shadow_rays.size() - before);
       }
     });
@@ -337,7 +339,6 @@ void WhittedTracer::render_wavefront(const PinholeCamera& camera,
     out.rays_by_kind[static_cast<int>(RayKind::kShadow)] += shadow_total;
 
     // Each ray's contribution, and the next generation (the blocks' secondary rays in order).
-    if (first) wf.first.resize(n);
     wf.next_rays.resize(secondary_total);
     wf.next_states.resize(secondary_total);
     for_blocks(n, [&](size_t b, size_t begin, size_t end) {
@@ -346,7 +347,7 @@ void WhittedTracer::render_wavefront(const PinholeCamera& camera,
       const Hit* shadow_hits = wf.shadow_hits.data() + blk.shadow_begin;
       const glm::vec3* terms = blk.spawned.shadow_terms.data();
       for (size_t i = begin; i < end; ++i) {
-        const PathState& st = wf.states[i];
+        const PathState& st = state(i);
         glm::vec3 value;
         if (!wf.hits[i].valid()) {
           value = st.weight * params_.background;
@@ -356,7 +357,7 @@ void WhittedTracer::render_wavefront(const PinholeCamera& camera,
           terms += k;
           shadow_hits += k;
         }
-        if (first) wf.first[i] = value;
+        if (first) blk.base[i - begin] = value;
         else blk.later.push_back({wf.rays[i].pixel, st.key, value});
       }
       for (size_t j = 0; j < blk.spawned.secondary.size(); ++j) {
@@ -365,7 +366,8 @@ void WhittedTracer::render_wavefront(const PinholeCamera& camera,
       }
     });
     if (first) {
-      for (size_t i = 0; i < n; ++i) out.radiance[wf.rays[i].pixel] += wf.first[i];
+      for (size_t i = 0; i < n; ++i)
+        out.radiance[wf.rays[i].pixel] += wf.blocks[i / kBlockRays].base[i % kBlockRays];
     } else {
       for (size_t b = 0; b < blocks; ++b)
         wf.later.insert(wf.later.end(), wf.blocks[b].later.begin(), wf.blocks[b].later.end());
