@@ -7,12 +7,17 @@
 // of the tier's counters. A unit's figure is its runs' sum over all generations: its share of
 // the full run's total, so the expansion estimator over units stays unbiased for the frame.
 //
+// The plain traversal of a batch runs on the worker threads while the calling thread sends the
+// batch's runs through the tier (the tier's work does not wait for the plain hits; they are
+// compared with the tier's once both are done).
+//
 // The cut at a run's ends is explicit: each run (and each warming span) is a trace() call of
 // its own, so a tier with rays in flight starts the run with an empty unit and drains it at the
 // end, where the full run overlaps the run's first and last rays with its neighbours'.
 #pragma once
 #include <cstdint>
 #include <map>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -38,11 +43,12 @@ class GenerationSampler final : public TraceBackend {
   uint64_t rays_warmed() const { return rays_warmed_; }
 
  private:
-  // Sends rays through the tier (their hits must be the plain traversal's).
-  void send(std::span<const RayRecord> rays, std::span<const Hit> expected);
   // Warms the tier with the rays of the frame's sequence before batch ray `first` that the tier
-  // has not just traced, at most warm_rays_ of them.
-  void warm(std::span<const RayRecord> batch, std::span<const Hit> hits, size_t first);
+  // has not just traced, at most warm_rays_ of them. Their hits from the tier: those of earlier
+  // batches checked at once, those of this batch kept in tier_hits_ to be checked.
+  void warm(std::span<const RayRecord> batch, size_t first);
+  // Throws unless the tier's hits equal plain traversal's.
+  static void check(std::span<const Hit> tier, std::span<const Hit> plain);
 
   TraceBackend& plain_;
   TierRun& tier_;
@@ -57,6 +63,15 @@ class GenerationSampler final : public TraceBackend {
   std::vector<RayRecord> tail_;  // the last warm_rays_ rays of the previous batches
   std::vector<Hit> tail_hits_;
   std::vector<Hit> scratch_;
+  // The current batch's spans the tier traced, and their hits from it (one after another).
+  struct Sent {
+    size_t begin, end;  // in the batch
+    size_t hits;        // the first one's in tier_hits_
+  };
+  std::vector<Sent> sent_;
+  std::vector<Hit> tier_hits_;
+  // Room for `n` more of the tier's hits (a span at the end of tier_hits_).
+  std::span<Hit> tier_hits_room(size_t n);
 };
 
 }  // namespace rtusim

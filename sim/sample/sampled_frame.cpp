@@ -7,7 +7,7 @@
 #include <optional>
 
 #include "sample/generation_sampler.h"
-#include "tracer/host_backend.h"
+#include "tracer/hit_backend.h"
 #include "tracer/parallel_render.h"
 #include "util/error.h"
 
@@ -66,8 +66,9 @@ void SampledFrame::trace_generations(const Scene& scene, const TracerParams& tra
   std::vector<int32_t> unit_of_pixel(size_t(width_) * height_, -1);
   for (size_t k = 0; k < units.size(); ++k)
     for (const uint32_t p : plan_.units[units[k]]) unit_of_pixel[p] = static_cast<int32_t>(k);
-  // Every ray's hit by plain traversal, on every core when there are several.
-  HostBackend host(image);
+  // Every ray's hit by plain traversal (nothing else of it is used), on every core when there
+  // are several.
+  HitBackend host(image);
   std::optional<ParallelBackend> parallel;
   if (parallel_threads() > 1) parallel.emplace(host);
   TraceBackend& plain = parallel ? static_cast<TraceBackend&>(*parallel) : host;

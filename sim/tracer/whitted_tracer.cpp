@@ -12,21 +12,63 @@
 
 namespace rtusim {
 
-// A ray of the ray tree with what its pixel needs to accumulate it.
-struct WhittedTracer::PathRay {
-  RayRecord rec;
+// A ray-tree node's place: what its contribution is scaled by, and its position in the tree.
+struct WhittedTracer::PathState {
   glm::vec3 weight{1.0f};
   int depth = 0;
   uint64_t key = 0;  // pre-order position in the pixel's ray tree
 };
 
-// What a hit spawns: shadow rays (one per light facing the surface), the lit terms they gate,
-// and up to two secondary rays.
-struct WhittedTracer::Shading {
-  glm::vec3 base_local{0.0f};  // emission + ambient
+// A ray of the ray tree with what its pixel needs to accumulate it.
+struct WhittedTracer::PathRay {
+  RayRecord rec;
+  PathState st;
+};
+
+// What hits spawn, appended hit after hit: shadow rays (one per light facing the surface), the
+// lit terms they gate, and up to two secondary rays per hit.
+struct WhittedTracer::Spawned {
   std::vector<RayRecord> shadow_rays;
   std::vector<glm::vec3> shadow_terms;  // added when shadow_rays[i] is unoccluded
-  std::vector<PathRay> secondary;       // reflection first, then refraction
+  std::vector<PathRay> secondary;       // per hit: reflection first, then refraction
+  std::vector<Hit> shadow_hits;         // recursive order: the shadow rays' hits
+  void clear() {
+    shadow_rays.clear();
+    shadow_terms.clear();
+    secondary.clear();
+  }
+};
+
+// The wavefront order's buffers, kept from one generation (and call) to the next.
+struct WhittedTracer::Wavefront {
+  // A ray's contribution to its pixel, summed in (pixel, key) order.
+  struct Contribution {
+    uint32_t pixel;
+    uint64_t key;
+    glm::vec3 value;
+  };
+  // One block of kBlockRays consecutive rays of a generation, shaded on any thread.
+  struct Block {
+    Spawned spawned;
+    // Per ray: emission + ambient of its hit; in the first generation then its contribution.
+    std::vector<glm::vec3> base;
+    std::vector<uint32_t> shadows;    // per ray: its shadow rays
+    std::array<uint64_t, kRayKinds> kinds{};
+    size_t shadow_begin = 0;     // the block's first shadow ray in the generation's shadow batch
+    size_t secondary_begin = 0;  // its first spawned ray in the next generation
+    std::vector<Contribution> later;  // contributions of a generation after the first
+  };
+  static constexpr size_t kBlockRays = 1024;
+
+  std::vector<RayRecord> rays;  // the generation: the batch the backend takes
+  std::vector<PathState> states;  // empty in the first generation: every ray is a root
+  std::vector<Hit> hits;
+  std::vector<Block> blocks;
+  std::vector<RayRecord> shadow_rays;  // the generation's shadow batch
+  std::vector<Hit> shadow_hits;
+  std::vector<Contribution> later;
+  std::vector<RayRecord> next_rays;
+  std::vector<PathState> next_states;
 };
 
 namespace {
@@ -53,16 +95,20 @@ WhittedTracer::WhittedTracer(const Scene& scene, const TracerParams& params,
   key_step_.assign(params_.max_depth + 2, 0);
   uint64_t p = 1;
   for (int d = params_.max_depth; d >= 1; --d, p *= 3) key_step_[d] = p;
+  recursive_spawned_.resize(std::max(0, params_.max_depth) + 1);
+  wavefront_ = std::make_unique<Wavefront>();
 }
 
-WhittedTracer::Shading WhittedTracer::shade(const PathRay& pr, const Hit& hit) const {
-  Shading sh;
+WhittedTracer::~WhittedTracer() = default;
+
+glm::vec3 WhittedTracer::shade(const RayRecord& rec, const PathState& st, const Hit& hit,
+                               Spawned& out) const {
   const auto& tri = scene_.triangles[hit.triangle];
   const Material& m = scene_.materials[scene_.triangle_material[hit.triangle]];
   const auto v = scene_.vertices(hit.triangle);
   const float w0 = 1.0f - hit.u - hit.v;
   const glm::vec3 p = w0 * v[0] + hit.u * v[1] + hit.v * v[2];
-  const glm::vec3 d = glm::normalize(pr.rec.ray.dir);
+  const glm::vec3 d = glm::normalize(rec.ray.dir);
 
   // Face normal towards the incoming ray; shading normal from vertex normals where present.
   glm::vec3 ng = glm::cross(v[1] - v[0], v[2] - v[0]);
@@ -85,7 +131,7 @@ WhittedTracer::Shading WhittedTracer::shade(const PathRay& pr, const Hit& hit) c
   // Local terms: emission and ambient, then each point light through a shadow ray.
   const bool mirror = m.metallic >= params_.mirror_threshold;
   const float kd = (1.0f - m.transmission) * (mirror ? 1.0f - m.metallic : 1.0f);
-  sh.base_local = m.emissive + params_.ambient * m.base_color;
+  const glm::vec3 base_local = m.emissive + params_.ambient * m.base_color;
   for (const PointLight& light : lights_) {
     const glm::vec3 to_light = light.position - p_out;
     const float dist = glm::length(to_light);
@@ -96,11 +142,11 @@ WhittedTracer::Shading WhittedTracer::shade(const PathRay& pr, const Hit& hit) c
     RayRecord shadow;
     shadow.ray = {p_out, l, dist};
     shadow.kind = RayKind::kShadow;
-    shadow.pixel = pr.rec.pixel;
-    sh.shadow_rays.push_back(shadow);
-    sh.shadow_terms.push_back(kd * cos_l * m.base_color * light.color * light.intensity);
+    shadow.pixel = rec.pixel;
+    out.shadow_rays.push_back(shadow);
+    out.shadow_terms.push_back(kd * cos_l * m.base_color * light.color * light.intensity);
   }
-  if (pr.depth >= params_.max_depth) return sh;
+  if (st.depth >= params_.max_depth) return base_local;
 
   // Secondary rays: mirror reflection for metals, Fresnel reflection + refraction for glass.
   const float cos_i = std::min(1.0f, -glm::dot(d, ns));
@@ -122,14 +168,14 @@ WhittedTracer::Shading WhittedTracer::shade(const PathRay& pr, const Hit& hit) c
   auto spawn = [&](const glm::vec3& weight, const glm::vec3& origin, const glm::vec3& dir,
                    RayKind kind, uint64_t digit) {
     PathRay child;
-    child.weight = pr.weight * weight;
-    if (max3(child.weight) <= 0.0f) return;
+    child.st.weight = st.weight * weight;
+    if (max3(child.st.weight) <= 0.0f) return;
     child.rec.ray = {origin, dir, std::numeric_limits<float>::infinity()};
     child.rec.kind = kind;
-    child.rec.pixel = pr.rec.pixel;
-    child.depth = pr.depth + 1;
-    child.key = pr.key + digit * key_step_[child.depth];
-    sh.secondary.push_back(child);
+    child.rec.pixel = rec.pixel;
+    child.st.depth = st.depth + 1;
+    child.st.key = st.key + digit * key_step_[child.st.depth];
+    out.secondary.push_back(child);
   };
   if (max3(w_reflect) > 0.0f) {
     glm::vec3 r = d + 2.0f * cos_i * ns;
@@ -137,13 +183,14 @@ WhittedTracer::Shading WhittedTracer::shade(const PathRay& pr, const Hit& hit) c
     spawn(w_reflect, p_out, glm::normalize(r), RayKind::kReflection, 1);
   }
   if (max3(w_refract) > 0.0f) spawn(w_refract, p_in, refract_dir, RayKind::kRefraction, 2);
-  return sh;
+  return base_local;
 }
 
-glm::vec3 WhittedTracer::local_radiance(const Shading& sh, const Hit* shadow_hits) const {
-  glm::vec3 c = sh.base_local;
-  for (size_t i = 0; i < sh.shadow_rays.size(); ++i)
-    if (!shadow_hits[i].valid()) c += sh.shadow_terms[i];
+glm::vec3 WhittedTracer::local_radiance(glm::vec3 base, const glm::vec3* terms,
+                                        const Hit* shadow_hits, size_t n) {
+  glm::vec3 c = base;
+  for (size_t i = 0; i < n; ++i)
+    if (!shadow_hits[i].valid()) c += terms[i];
   return c;
 }
 
@@ -179,16 +226,19 @@ void WhittedTracer::trace_recursive(const PathRay& pr, FrameResult& out, glm::ve
   backend_.trace({&pr.rec, 1}, {&hit, 1});
   ++out.rays_by_kind[static_cast<int>(pr.rec.kind)];
   if (!hit.valid()) {
-    acc += pr.weight * params_.background;
+    acc += pr.st.weight * params_.background;
     return;
   }
-  const Shading sh = shade(pr, hit);
-  std::vector<Hit> shadow_hits(sh.shadow_rays.size());
-  for (size_t i = 0; i < sh.shadow_rays.size(); ++i)
-    backend_.trace({&sh.shadow_rays[i], 1}, {&shadow_hits[i], 1});
-  out.rays_by_kind[static_cast<int>(RayKind::kShadow)] += sh.shadow_rays.size();
-  acc += pr.weight * local_radiance(sh, shadow_hits.data());
-  for (const PathRay& child : sh.secondary) trace_recursive(child, out, acc);
+  // This depth's buffers: the children below use the next depth's.
+  Spawned& sp = recursive_spawned_[pr.st.depth];
+  sp.clear();
+  const glm::vec3 base = shade(pr.rec, pr.st, hit, sp);
+  const size_t n = sp.shadow_rays.size();
+  sp.shadow_hits.assign(n, Hit{});
+  for (size_t i = 0; i < n; ++i) backend_.trace({&sp.shadow_rays[i], 1}, {&sp.shadow_hits[i], 1});
+  out.rays_by_kind[static_cast<int>(RayKind::kShadow)] += n;
+  acc += pr.st.weight * local_radiance(base, sp.shadow_terms.data(), sp.shadow_hits.data(), n);
+  for (const PathRay& child : sp.secondary) trace_recursive(child, out, acc);
 }
 
 void WhittedTracer::render_recursive(const PinholeCamera& camera,
@@ -205,70 +255,131 @@ void WhittedTracer::render_recursive(const PinholeCamera& camera,
 }
 
 // Wavefront order: every ray of one generation as a batch, then that generation's shadow rays,
-// then the next generation. Contributions are summed per pixel in ray-tree pre-order.
+// then the next generation. Contributions are summed per pixel in ray-tree pre-order: the first
+// generation's (key 0, first in every tree) at once, the later ones sorted at the end.
+// Generation, shading and gathering run in blocks of consecutive rays on every thread; the
+// batches keep the generation's order.
 void WhittedTracer::render_wavefront(const PinholeCamera& camera,
                                      std::span<const uint32_t> pixels, FrameResult& out) {
-  struct Contribution {
-    uint32_t pixel;
-    uint64_t key;
-    glm::vec3 value;
-  };
-  std::vector<Contribution> contributions;
-  std::vector<PathRay> generation;
-  generation.reserve(pixels.size());
-  for (const uint32_t pixel : pixels) {
-    PathRay pr;
-    pr.rec.ray = camera.generate(static_cast<int>(pixel % out.width),
-                                 static_cast<int>(pixel / out.width));
-    pr.rec.pixel = pixel;
-    generation.push_back(pr);
-  }
-
-  std::vector<RayRecord> batch;
-  std::vector<Hit> hits;
-  while (!generation.empty()) {
-    batch.clear();
-    for (const PathRay& pr : generation) batch.push_back(pr.rec);
-    hits.assign(batch.size(), Hit{});
-    backend_.trace(batch, hits);
-    for (const RayRecord& r : batch) ++out.rays_by_kind[static_cast<int>(r.kind)];
-
-    // Shade every hit (each on its own: on every thread), then trace all of the generation's
-    // shadow rays as one batch, in the generation's order.
-    std::vector<Shading> shadings(generation.size());
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, generation.size(), 1024),
+  using Block = Wavefront::Block;
+  using Contribution = Wavefront::Contribution;
+  constexpr size_t kBlockRays = Wavefront::kBlockRays;
+  Wavefront& wf = *wavefront_;
+  // Runs f(block index, first ray, end ray) over the blocks of `n` rays on every thread.
+  auto for_blocks = [&](size_t n, auto&& f) {
+    const size_t count = (n + kBlockRays - 1) / kBlockRays;
+    if (wf.blocks.size() < count) wf.blocks.resize(count);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 1),
                       [&](const tbb::blocked_range<size_t>& r) {
-                        for (size_t i = r.begin(); i != r.end(); ++i)
-                          if (hits[i].valid()) shadings[i] = shade(generation[i], hits[i]);
+                        for (size_t b = r.begin(); b != r.end(); ++b)
+                          f(b, b * kBlockRays, std::min(n, (b + 1) * kBlockRays));
                       });
-    std::vector<RayRecord> shadow_batch;
-    for (const Shading& sh : shadings)
-      shadow_batch.insert(shadow_batch.end(), sh.shadow_rays.begin(), sh.shadow_rays.end());
-    std::vector<Hit> shadow_hits(shadow_batch.size());
-    backend_.trace(shadow_batch, shadow_hits);
-    out.rays_by_kind[static_cast<int>(RayKind::kShadow)] += shadow_batch.size();
+    return count;
+  };
 
-    std::vector<PathRay> next;
-    size_t s = 0;
-    for (size_t i = 0; i < generation.size(); ++i) {
-      const PathRay& pr = generation[i];
-      if (!hits[i].valid()) {
-        contributions.push_back({pr.rec.pixel, pr.key, pr.weight * params_.background});
-        continue;
-      }
-      const Shading& sh = shadings[i];
-      contributions.push_back({pr.rec.pixel, pr.key,
-                               pr.weight * local_radiance(sh, shadow_hits.data() + s)});
-      s += sh.shadow_rays.size();
-      next.insert(next.end(), sh.secondary.begin(), sh.secondary.end());
+  // The first generation: a primary ray per pixel.
+  wf.rays.resize(pixels.size());
+  wf.states.clear();
+  for_blocks(pixels.size(), [&](size_t, size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i) {
+      RayRecord& rec = wf.rays[i];
+      rec = RayRecord{};
+      rec.ray = camera.generate(static_cast<int>(pixels[i] % out.width),
+                                static_cast<int>(pixels[i] / out.width));
+      rec.pixel = pixels[i];
     }
-    generation = std::move(next);
+  });
+  wf.later.clear();
+
+  const PathState root;
+  for (bool first = true; !wf.rays.empty(); first = false) {
+    const size_t n = wf.rays.size();
+    auto state = [&](size_t i) -> const PathState& { return first ? root : wf.states[i]; };
+    wf.hits.assign(n, Hit{});
+    backend_.trace(wf.rays, wf.hits);
+
+    // Shade every hit, block by block; then trace all of the generation's shadow rays as one
+    // batch, in the generation's order.
+    const size_t blocks = for_blocks(n, [&](size_t b, size_t begin, size_t end) {
+      Block& blk = wf.blocks[b];
+      blk.spawned.clear();
+      // Room for the most a block can spawn, so that the buffers never grow by copying (the
+      // pages are touched only as they fill).
+      blk.spawned.shadow_rays.reserve((end - begin) * lights_.size());
+      blk.spawned.shadow_terms.reserve((end - begin) * lights_.size());
+      blk.spawned.secondary.reserve((end - begin) * 2);
+      blk.base.resize(end - begin);
+      blk.shadows.assign(end - begin, 0);
+      blk.kinds = {};
+      for (size_t i = begin; i < end; ++i) {
+        ++blk.kinds[static_cast<int>(wf.rays[i].kind)];
+        if (!wf.hits[i].valid()) continue;
+        const size_t before = blk.spawned.shadow_rays.size();
+        blk.base[i - begin] = shade(wf.rays[i], state(i), wf.hits[i], blk.spawned);
+        blk.shadows[i - begin] = static_cast<uint32_t>(blk.spawned.shadow_rays.size() - before);
+      }
+    });
+    size_t shadow_total = 0, secondary_total = 0;
+    for (size_t b = 0; b < blocks; ++b) {
+      Block& blk = wf.blocks[b];
+      for (int k = 0; k < kRayKinds; ++k) out.rays_by_kind[k] += blk.kinds[k];
+      blk.shadow_begin = shadow_total;
+      blk.secondary_begin = secondary_total;
+      shadow_total += blk.spawned.shadow_rays.size();
+      secondary_total += blk.spawned.secondary.size();
+    }
+    wf.shadow_rays.resize(shadow_total);
+    for_blocks(n, [&](size_t b, size_t, size_t) {
+      const Block& blk = wf.blocks[b];
+      std::copy(blk.spawned.shadow_rays.begin(), blk.spawned.shadow_rays.end(),
+                wf.shadow_rays.begin() + blk.shadow_begin);
+    });
+    wf.shadow_hits.assign(shadow_total, Hit{});
+    backend_.trace(wf.shadow_rays, wf.shadow_hits);
+    out.rays_by_kind[static_cast<int>(RayKind::kShadow)] += shadow_total;
+
+    // Each ray's contribution, and the next generation (the blocks' secondary rays in order).
+    wf.next_rays.resize(secondary_total);
+    wf.next_states.resize(secondary_total);
+    for_blocks(n, [&](size_t b, size_t begin, size_t end) {
+      Block& blk = wf.blocks[b];
+      blk.later.clear();
+      const Hit* shadow_hits = wf.shadow_hits.data() + blk.shadow_begin;
+      const glm::vec3* terms = blk.spawned.shadow_terms.data();
+      for (size_t i = begin; i < end; ++i) {
+        const PathState& st = state(i);
+        glm::vec3 value;
+        if (!wf.hits[i].valid()) {
+          value = st.weight * params_.background;
+        } else {
+          const size_t k = blk.shadows[i - begin];
+          value = st.weight * local_radiance(blk.base[i - begin], terms, shadow_hits, k);
+          terms += k;
+          shadow_hits += k;
+        }
+        if (first) blk.base[i - begin] = value;
+        else blk.later.push_back({wf.rays[i].pixel, st.key, value});
+      }
+      for (size_t j = 0; j < blk.spawned.secondary.size(); ++j) {
+        wf.next_rays[blk.secondary_begin + j] = blk.spawned.secondary[j].rec;
+        wf.next_states[blk.secondary_begin + j] = blk.spawned.secondary[j].st;
+      }
+    });
+    if (first) {
+      for (size_t i = 0; i < n; ++i)
+        out.radiance[wf.rays[i].pixel] += wf.blocks[i / kBlockRays].base[i % kBlockRays];
+    } else {
+      for (size_t b = 0; b < blocks; ++b)
+        wf.later.insert(wf.later.end(), wf.blocks[b].later.begin(), wf.blocks[b].later.end());
+    }
+    std::swap(wf.rays, wf.next_rays);
+    std::swap(wf.states, wf.next_states);
   }
 
-  std::sort(contributions.begin(), contributions.end(), [](const auto& a, const auto& b) {
+  std::sort(wf.later.begin(), wf.later.end(), [](const Contribution& a, const Contribution& b) {
     return a.pixel != b.pixel ? a.pixel < b.pixel : a.key < b.key;
   });
-  for (const Contribution& c : contributions) out.radiance[c.pixel] += c.value;
+  for (const Contribution& c : wf.later) out.radiance[c.pixel] += c.value;
 }
 
 }  // namespace rtusim

@@ -4,6 +4,7 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -31,6 +32,7 @@ struct FrameResult {
 class WhittedTracer {
  public:
   WhittedTracer(const Scene& scene, const TracerParams& params, TraceBackend& backend);
+  ~WhittedTracer();
 
   // Renders a frame; the rays reach the backend in the configured order.
   FrameResult render(const PinholeCamera& camera, int width, int height);
@@ -44,11 +46,17 @@ class WhittedTracer {
                      FrameResult& out);
 
  private:
+  struct PathState;
   struct PathRay;
-  struct Shading;
+  struct Spawned;
+  struct Wavefront;
 
-  Shading shade(const PathRay& pr, const Hit& hit) const;
-  glm::vec3 local_radiance(const Shading& sh, const Hit* shadow_hits) const;
+  // Shades a hit of `rec`: appends its shadow rays, their terms and its secondary rays to `out`
+  // and returns its emission + ambient term.
+  glm::vec3 shade(const RayRecord& rec, const PathState& st, const Hit& hit, Spawned& out) const;
+  // `base` plus the terms of the unoccluded ones of `n` shadow rays.
+  static glm::vec3 local_radiance(glm::vec3 base, const glm::vec3* terms, const Hit* shadow_hits,
+                                  size_t n);
   void render_recursive(const PinholeCamera& camera, std::span<const uint32_t> pixels,
                         FrameResult& out);
   void render_wavefront(const PinholeCamera& camera, std::span<const uint32_t> pixels,
@@ -61,6 +69,10 @@ class WhittedTracer {
   RayOffset offset_;
   std::vector<PointLight> lights_;  // the scene's, or the headlight
   std::vector<uint64_t> key_step_;  // ray-tree key stride per depth (preorder keys)
+  // Reused buffers (no allocation per ray): the recursive order's spawned rays per depth, and
+  // the wavefront order's generation buffers.
+  std::vector<Spawned> recursive_spawned_;
+  std::unique_ptr<Wavefront> wavefront_;
 };
 
 }  // namespace rtusim
