@@ -51,11 +51,12 @@ int keys_command(const KeysOptions& opts) {
   } else if (opts.format == "markdown") {
     std::cout << "| key | type | default | range | unit | description |\n"
               << "|---|---|---|---|---|---|\n";
-    for (const ParamInfo* k : keys)
-      std::cout << "| `" << k->key << "` | " << param_type_name(k->type) << " | "
-                << (k->default_text.empty() ? "" : "`" + markdown_cell(k->default_text) + "`")
-                << " | " << markdown_cell(k->range_text) << " | " << k->unit << " | "
+    for (const ParamInfo* k : keys) {
+      std::cout << "| `" << k->key << "` | " << param_type_name(k->type) << " | ";
+      if (!k->default_text.empty()) std::cout << '`' << markdown_cell(k->default_text) << '`';
+      std::cout << " | " << markdown_cell(k->range_text) << " | " << k->unit << " | "
                 << markdown_cell(k->description) << " |\n";
+    }
   } else if (opts.format == "text") {
     for (const ParamInfo* k : keys) {
       std::printf("%-26s %-11s %s", k->key.c_str(), param_type_name(k->type),
