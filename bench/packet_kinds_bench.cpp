@@ -1,4 +1,4 @@
-// The host traversal's packets (traverse_batch(); 16 lanes with AVX-512, 8 with AVX2) against
+// The host traversal's packets (traverse_batch(); 8 lanes with AVX2 or AVX-512) against
 // ray by ray (traverse()) on the ray batches of a Whitted wavefront frame, by kind: primary,
 // shadow, secondary (reflection and refraction); with no fetch sink, and recording every fetch
 // in a FetchLog as the parallel functional tier does (packets: each ray's fetches buffered, then

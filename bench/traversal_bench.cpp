@@ -1,5 +1,5 @@
 // Single-thread primary-ray throughput of the host kd-tree traversal, ray by ray (traverse())
-// and in packets (traverse_batch(): 16 lanes with AVX-512, 8 with AVX2; 16x1 strips of the scan
+// and in packets (traverse_batch(): 8 lanes with AVX2 or AVX-512; 16x1 strips of the scan
 // order, and 4x4 tiles), against Embree's rtcIntersect1 and its own 16-ray packets
 // (rtcIntersect16 on the same groups)
 // on the same rays in the same run, plus kd-tree build time and memory.

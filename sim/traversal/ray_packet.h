@@ -1,4 +1,4 @@
-// Up to 16 rays (AVX-512; 8 with AVX2 alone) traversing the kd-tree together: one node fetch
+// Up to 8 rays (AVX2, and AVX-512 hosts too) traversing the kd-tree together: one node fetch
 // and decode, and one vector step, serve every ray that visits the node. Each ray's result is
 // the single-ray one: its hit bit for bit, and its own fetches (node, list, triangle) in the
 // order traverse() reports them for that ray alone.
@@ -18,15 +18,15 @@
 // double-precision cases with the single-ray code): a lane's triangles in leaf order, each one
 // reported to that lane just before its test, stopping at an any-hit lane's first hit, as the
 // single-ray loop does. Lanes the packet does not take (admits() false) go through traverse().
-// The lane width is a parameter (`Simd`: PacketSimd16 or PacketSimd8, the same operations on
-// 16 or 8 floats); an inactive lane's interval values are never read, so they may be anything.
+// The lane width is a parameter (`Simd`: PacketSimd8, the operations on 8 floats; 16 lanes on
+// AVX-512 were slower, see docs/speed_notes.md); an inactive lane's interval values are never
+// read, so they may be anything.
 #pragma once
-#if defined(__AVX512F__) || defined(__AVX2__)
+#if defined(__AVX2__)
 #define RTUSIM_RAY_PACKETS 1
 #include <cstdint>
 #include <type_traits>
 
-#include "traversal/packet_simd16.h"
 #include "traversal/packet_simd8.h"
 #include "traversal/traversal.h"
 #include "traversal/watertight_lanes8.h"
@@ -329,12 +329,10 @@ template <class Decoder, class Lanes>
   }
 }
 
-// The host's packet: 16 lanes where AVX-512 is there, else 8 (AVX2).
-#if defined(__AVX512F__)
-using RayPacket = BasicRayPacket<PacketSimd16>;
-#else
+// The host's packet: 8 lanes wherever AVX2 is there. On AVX-512 hosts too: 16-lane packets
+// without the lanes' leaf test ran Kitchen's primary rays at 0.79x Embree against 1.2x for these
+// (AMD EPYC Zen 5, Dec 3 2026).
 using RayPacket = BasicRayPacket<PacketSimd8>;
-#endif
 
 }  // namespace rtusim
 #endif

@@ -15,7 +15,6 @@
 #include "kdtree/kd_tree.h"
 #include "layout/memory_image.h"
 #include "layout/node_view.h"
-#include "traversal/leaf_chunk_avx512.h"
 #include "traversal/watertight_triangle.h"
 
 namespace rtusim {
@@ -282,76 +281,15 @@ template <class Sink>
   return {n.prim_count, false};
 }
 
-#if defined(__AVX512F__)
-// Leaves of at least this many triangles are tested 16 at a time.
-constexpr uint32_t kChunkMinPrims = 4;
-
-// What a leaf's triangles leave: the hit so far, how many were tested, whether the ray is done.
-struct LeafOutcome {
-  Hit hit;
-  uint32_t tested;
-  bool done;
-};
-
-// The same as leaf_triangles_loop(), 16 triangles at a time: each chunk is tested against the
-// hit found before it, then its lanes that may hit are taken in order against the hit so far,
-// as the scalar loop takes them; the fetches are reported in the same order and stop where it
-// stops. Needs an image whose triangle offsets fit in 31 bits (the gathers' indices). Out of
-// line, on copies, so the traversal loop keeps its state in registers.
-template <class Sink>
-[[gnu::noinline]] LeafOutcome leaf_triangles_chunked(const WatertightRay wray, Hit hit,
-                                                     const float ray_t_max, const bool any_hit,
-                                                     const MemoryImage& image, const NodeView n,
-                                                     Sink& sink) {
-  const uint8_t* bytes = image.bytes.data();
-  LeafChunk c;
-  for (uint32_t base = 0; base < n.prim_count; base += LeafChunk::kLanes) {
-    const uint32_t lanes = std::min<uint32_t>(LeafChunk::kLanes, n.prim_count - base);
-    c.test(wray, bytes, image.triangles.base_addr, bytes + n.list_addr + 4ull * base,
-           static_cast<int>(lanes), std::min(hit.t, ray_t_max));
-    uint32_t fetched = 0;  // lanes whose fetch is reported
-    auto fetch_through = [&](uint32_t lane) {
-      for (; fetched <= lane; ++fetched)
-        sink.fetch(Stream::kTriangle, image.triangle_addr(leaf_triangle(image, n, base + fetched)),
-                   MemoryImage::kTriangleBytes);
-    };
-    for (uint32_t todo = c.hit_mask | c.scalar_mask; todo != 0; todo &= todo - 1) {
-      const uint32_t i = static_cast<uint32_t>(__builtin_ctz(todo));
-      fetch_through(i);
-      const uint32_t tri = leaf_triangle(image, n, base + i);
-      auto test = [&](float t_limit, float& t, float& bu, float& bv) {
-        if (c.scalar_mask >> i & 1u) {
-          const PackedFloats v{bytes + image.triangle_addr(tri)};
-          return intersect_watertight(wray, v, t_limit, t, bu, bv);
-        }
-        return c.accept(static_cast<int>(i), t_limit, t, bu, bv);
-      };
-      const bool found = record_hit(hit, ray_t_max, tri, test);
-      if (found && any_hit) return {hit, base + i + 1, true};
-    }
-    fetch_through(lanes - 1);
-  }
-  return {hit, n.prim_count, false};
-}
-#endif
-
 // A leaf's list (if any) and triangles, fetched and tested against `hit` (a ray's parts, as in
-// leaf_triangles_loop()): 16 at a time in large leaves where AVX-512 is there, else one by one.
-// Shared by the single-ray step and the packets' lanes.
+// leaf_triangles_loop()), one by one (an AVX-512 test of 16 triangles at a time was slower on
+// AMD EPYC Zen 5: docs/speed_notes.md). Shared by the single-ray step and the packets' lanes.
 template <class Sink>
 [[gnu::always_inline]] inline LeafTested leaf_triangles(const WatertightRay& wray, Hit& hit,
                                                         float ray_t_max, bool any_hit,
                                                         const MemoryImage& image,
                                                         const NodeView& n, Sink& sink) {
   if (n.prim_count >= 2) sink.fetch(Stream::kList, n.list_addr, n.prim_count * 4u);
-#if defined(__AVX512F__)
-  // Rare per step (half the leaves are empty, most others hold one or two triangles).
-  if (n.prim_count >= kChunkMinPrims && image.bytes.size() <= 0x7fffffffu) [[unlikely]] {
-    const LeafOutcome o = leaf_triangles_chunked(wray, hit, ray_t_max, any_hit, image, n, sink);
-    hit = o.hit;
-    return {o.tested, o.done};
-  }
-#endif
   return leaf_triangles_loop(wray, hit, ray_t_max, any_hit, image, n, sink);
 }
 
