@@ -53,7 +53,7 @@ class FrFcfsDram final : public DramBackend {
     DramRequest req;
     Location loc;
     uint64_t seq;  // enqueue order: the last tie-break (after arrival time, then address)
-    uint32_t prev = kNil, next = kNil;  // the queue's neighbours (Channel::head)
+    uint32_t prev = kNil, next = kNil;  // the neighbours in its bank's queue (Channel::head)
   };
   struct Bank {
     uint64_t open_row = kNoRow;
@@ -66,16 +66,13 @@ class FrFcfsDram final : public DramBackend {
     return a.seq < b.seq;
   }
   struct Channel {
-    // The queue, oldest first (older()), a list threaded through `pool` from `head` (a pool
-    // entry not in it is in `free`); picked by (row hit, age).
+    // Per bank, its queue, oldest first (older()), a list threaded through `pool` from
+    // head[bank] to tail[bank] (a pool entry in none is in `free`).
     std::vector<Queued> pool;
     std::vector<uint32_t> free;
-    uint32_t head = kNil, tail = kNil;
+    std::vector<uint32_t> head, tail;
+    std::vector<uint64_t> queued;  // bit k % 64 of word k / 64: bank k's queue is not empty
     std::vector<Bank> banks;
-    // Per bank: its requests in the queue, and the scan that last met one of them (scan_).
-    std::vector<uint32_t> waiting;
-    std::vector<uint64_t> seen;
-    uint32_t banks_waiting = 0;  // banks with a request in the queue
     uint64_t bus_free_ps = 0;
   };
 
@@ -93,7 +90,6 @@ class FrFcfsDram final : public DramBackend {
   std::vector<Channel> channels_;
   uint64_t next_decision_ps_ = kNever;
   uint64_t seq_ = 0;
-  uint64_t scan_ = 0;  // scans made (Channel::seen)
   uint64_t row_hits_ = 0, row_misses_ = 0, row_conflicts_ = 0;
   uint64_t busy_until_ps_ = 0;
 };
