@@ -191,7 +191,8 @@ class TimedEngine {
   // `slot`'s sends of this event are done: its next event at `ready` (its answers known so far)
   // + `then_cycles`, or when its last wait is answered.
   template <class Events>
-  void await(Events& events, uint32_t slot, uint64_t ready, uint32_t then_cycles);
+  [[gnu::always_inline]] inline void await(Events& events, uint32_t slot, uint64_t ready,
+                                           uint32_t then_cycles);
 
   UnitParams unit_;
   uint64_t period_ps_;
