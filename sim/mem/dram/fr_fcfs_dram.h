@@ -13,7 +13,6 @@
 // the command bus, writes (the unit only reads).
 #pragma once
 #include <algorithm>
-#include <stdexcept>
 #include <vector>
 
 #include "mem/dram/dram_backend.h"
@@ -32,8 +31,6 @@ class FrFcfsDram final : public DramBackend {
   void enqueue(const DramRequest& r) override;
   uint64_t next_decision_ps() const override { return next_decision_ps_; }
   void advance(uint64_t now_ps, std::vector<DramCompletion>& out) override;
-  // Nothing queued: the read goes when its bank is ready, no queue or choice involved.
-  uint64_t read_now(const DramRequest& r) override;
   void write_stats(Stats& stats, const std::string& prefix) const override;
 
   struct Location {
@@ -94,7 +91,7 @@ class FrFcfsDram final : public DramBackend {
   uint64_t busy_until_ps_ = 0;
 };
 
-// Inline: the timed interleaver calls read_now once per DRAM read.
+// Inline: called once per DRAM request (enqueue, and the timed engine through the queue).
 inline FrFcfsDram::Location FrFcfsDram::locate(uint64_t addr) const {
   const uint64_t chunk = row_.div(addr);
   const uint64_t per_channel = channel_.div(chunk);
@@ -126,15 +123,6 @@ inline uint64_t FrFcfsDram::serve(Channel& c, Bank& b, uint64_t row, const DramR
   count(r);
   busy_until_ps_ = std::max(busy_until_ps_, done);
   return done;
-}
-
-inline uint64_t FrFcfsDram::read_now(const DramRequest& r) {
-  if (next_decision_ps_ != kNever) throw std::logic_error("DRAM read_now: requests queued");
-  const Location loc = locate(r.addr);
-  Channel& c = channels_[loc.channel];
-  Bank& b = c.banks[loc.bank];
-  ++seq_;
-  return serve(c, b, loc.row, r, std::max(r.arrival_ps, b.ready_ps));
 }
 
 }  // namespace rtusim
