@@ -43,6 +43,13 @@ class SlotEventTree {
     return true;
   }
 
+  // take() of an event of cycle `limit` or earlier: false when there is none.
+  bool take(uint32_t& slot, uint64_t& cycle, uint64_t limit) {
+    if (empty() || key_[1] >> (kSlotBits + 1) > limit) return false;
+    slot = take(cycle);
+    return true;
+  }
+
   // Schedules `slot` at `cycle` (no earlier than the last event taken), replacing its event.
   [[gnu::always_inline]] void set(uint32_t slot, uint64_t cycle) {
     if (cycle >> (63 - kSlotBits)) [[unlikely]]

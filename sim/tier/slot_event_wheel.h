@@ -32,6 +32,10 @@ class SlotEventWheel {
 
   // Takes and removes the next event: false when there is none, else its slot and cycle.
   [[gnu::always_inline]] bool take(uint32_t& slot, uint64_t& cycle) {
+    return take(slot, cycle, kNoCycle);
+  }
+  // take() of an event of cycle `limit` or earlier: false (nothing removed) when there is none.
+  [[gnu::always_inline]] bool take(uint32_t& slot, uint64_t& cycle, uint64_t limit) {
     // The first non-empty bucket from now_ on (the wheel's events lie in [now_, now_ + W)).
     const uint64_t b0 = now_ & kBucketMask;
     uint64_t w = b0 / 64;
@@ -46,7 +50,7 @@ class SlotEventWheel {
     const uint64_t b = w * 64 + static_cast<uint64_t>(std::countr_zero(bits));
     if (bits) wheel = now_ + ((b - b0) & kBucketMask);
     if (far_next_ <= wheel) [[unlikely]] {  // a far event of that cycle or earlier goes first
-      if (far_next_ == kNoCycle) return false;
+      if (far_next_ == kNoCycle || far_next_ > limit) return false;
       const uint64_t key = far_.top();
       far_.pop();
       far_next_ = far_.empty() ? kNoCycle : far_.top() >> kSlotBits;
@@ -54,6 +58,7 @@ class SlotEventWheel {
       slot = static_cast<uint32_t>(key & ((uint64_t{1} << kSlotBits) - 1));
       return true;
     }
+    if (wheel > limit) return false;
     uint64_t* m = &masks_[b * kWords];
     int i = 0;
     if constexpr (kWords > 1)

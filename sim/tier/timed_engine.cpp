@@ -33,49 +33,164 @@ TimedEngine::TimedEngine(const CycleParams& timing, int rays_in_flight)
       events_(make_events(static_cast<uint32_t>(rays_in_flight))),
       lanes_(timing.unit) {
   if (period_ps_ == 0) throw std::logic_error("timed engine: clock period not derived");
-  auto l1_timing = [](L1Timing& t, const L1Params& p) {
+  auto l1_timing = [](L1Timing& t, const L1Params& p, uint64_t read_id) {
     t.hit_cycles = p.hit_cycles;
+    t.read_id = read_id;
     t.line_size = FastDivider(p.cache.line_bytes);
     t.mshr_line.assign(p.mshrs, ~uint64_t{0});
     t.mshr_fill.assign(p.mshrs, 0);
+    t.mshr_waiters.resize(p.mshrs);
   };
-  l1_timing(node_l1_, timing.node_l1);
+  l1_timing(node_l1_, timing.node_l1, 0);
   if (timing.data_cache) {
     data_cache_ = std::make_unique<L1Timing>();
-    l1_timing(*data_cache_, *timing.data_cache);
+    l1_timing(*data_cache_, *timing.data_cache, kDataRead);
   }
 }
 
 TimedEngine::~TimedEngine() = default;
 
-uint64_t TimedEngine::dram_read(uint64_t addr, uint32_t bytes, Stream s, uint64_t t) {
-  // Decided at once: the queue holds this read only, so it goes when its bank is ready.
-  const DramRequest r{0, addr, bytes, t * period_ps_, s};
-  return cycles_.div_up(fr_fcfs_ ? fr_fcfs_->read_now(r) : dram_->read_now(r));
+void TimedEngine::note_decision() {
+  decision_ps_ = fr_fcfs_ ? fr_fcfs_->next_decision_ps() : dram_->next_decision_ps();
+  decision_cycle_ = decision_ps_ == DramBackend::kNever ? kUnknown : cycles_.div(decision_ps_);
 }
 
-uint64_t TimedEngine::l1_miss(L1Timing& l1, uint64_t line, Stream s, uint64_t c) {
-  // The first free MSHR; with none the port waits for the earliest fill.
+void TimedEngine::dram_enqueue(uint64_t id, uint64_t addr, uint32_t bytes, Stream s, uint64_t t) {
+  const DramRequest r{id, addr, bytes, t * period_ps_, s};
+  if (fr_fcfs_)
+    fr_fcfs_->enqueue(r);
+  else
+    dram_->enqueue(r);
+  note_decision();
+}
+
+uint64_t TimedEngine::l1_lookup(L1Timing& l1, Slot& slot, uint64_t line, bool in_tags, Stream s,
+                                uint64_t t) {
+  Lookup q{line, t, kUnknown, static_cast<uint32_t>(&slot - slots_.data()), in_tags, s};
+  uint64_t answer = kWaits;
+  // Behind held lookups, or held itself: it waits with the port.
+  if (!l1.held.empty() || !decide_lookup(l1, q, answer)) l1.held.push_back(q);
+  if (answer == kWaits) ++slot.waits;
+  return answer;
+}
+
+bool TimedEngine::decide_lookup(L1Timing& l1, Lookup& q, uint64_t& answer) {
   const size_t mshrs = l1.mshr_fill.size();
-  size_t m = 0;
-  while (m < mshrs && l1.mshr_fill[m] > c) ++m;
-  if (m == mshrs) {
+  size_t m = mshrs;
+  uint64_t c;
+  if (q.blocked_at == kUnknown) {
+    c = std::max(q.t, l1.port_free);
+    // An unknown fill comes after the DRAM's next decision, so after c when c is at or before
+    // it: its MSHR is busy at c.
+    const bool known_busy = c <= decision_cycle_;
+    // A busy MSHR that holds the line: a merge answered at its fill.
+    if (c < l1.busy_until && (l1.line_filter >> (q.line & 63) & 1)) {
+      size_t match = mshrs;
+      for (size_t i = 0; i < mshrs; ++i) {
+        if (l1.mshr_line[i] != q.line || c >= l1.mshr_fill[i]) continue;
+        if (l1.mshr_fill[i] == kUnknown && !known_busy) return false;  // busy at c or not
+        match = i;
+      }
+      if (match != mshrs) {
+        l1.port_free = c + 1;
+        ++l1.merged;
+        answer = l1.mshr_fill[match];
+        if (answer == kUnknown) {
+          answer = kWaits;
+          l1.mshr_waiters[match].push_back(q.slot);
+        }
+        return true;
+      }
+    }
+    if (q.in_tags) {
+      l1.port_free = c + 1;
+      answer = c + l1.hit_cycles;
+      return true;
+    }
+    // A primary miss: an MSHR known to be free (which one is free makes no difference to the
+    // timing), else every MSHR is busy when no unknown fill can come by c.
+    for (m = 0; m < mshrs && l1.mshr_fill[m] > c; ++m) {
+    }
+    if (m == mshrs) {
+      if (l1.undecided != 0 && !known_busy) return false;
+      q.blocked_at = c;
+    }
+  }
+  if (q.blocked_at != kUnknown) {
+    // Every MSHR busy: the port waits for the first fill, once no unknown one can come first.
     m = static_cast<size_t>(std::min_element(l1.mshr_fill.begin(), l1.mshr_fill.end()) -
                             l1.mshr_fill.begin());
-    l1.stall_cycles += l1.mshr_fill[m] - c;
     c = l1.mshr_fill[m];
-    l1.port_free = c + 1;
+    if (c == kUnknown || (l1.undecided != 0 && c > decision_cycle_)) return false;
+    l1.stall_cycles += c - q.blocked_at;
   }
+  l1.port_free = c + 1;
   ++l1.primary;
-  l1.mshr_line[m] = line;
+  l1.mshr_line[m] = q.line;
   l1.line_filter = 0;
   for (const uint64_t l : l1.mshr_line) l1.line_filter |= uint64_t{1} << (l & 63);
+  l1.mshr_fill[m] = kUnknown;
+  ++l1.undecided;
+  l1.busy_until = kUnknown;
+  l1.mshr_waiters[m].assign(1, q.slot);
   const uint64_t line_bytes = l1.line_size.divisor();
-  const uint64_t fill = dram_read(line * line_bytes, static_cast<uint32_t>(line_bytes), s,
-                                  c + l1.hit_cycles);
-  l1.mshr_fill[m] = fill;
-  l1.busy_until = std::max(l1.busy_until, fill);
-  return fill;
+  dram_enqueue(l1.read_id | m, q.line * line_bytes, static_cast<uint32_t>(line_bytes), q.stream,
+               c + l1.hit_cycles);
+  answer = kWaits;
+  return true;
+}
+
+template <class Events>
+void TimedEngine::answer(Events& events, uint32_t slot, uint64_t cycle) {
+  Slot& s = slots_[slot];
+  s.ready = std::max(s.ready, cycle);
+  if (--s.waits == 0) events.set(slot, s.ready + s.then_cycles);
+}
+
+template <class Events>
+void TimedEngine::await(Events& events, uint32_t slot, uint64_t ready, uint32_t then_cycles) {
+  Slot& s = slots_[slot];
+  if (s.waits == 0) [[likely]] {
+    events.set(slot, ready + then_cycles);
+    return;
+  }
+  s.ready = ready;
+  s.then_cycles = then_cycles;
+  events.clear(slot);  // no event until its last wait is answered
+}
+
+template <class Events>
+void TimedEngine::dram_decide(Events& events) {
+  done_.clear();
+  if (fr_fcfs_)
+    fr_fcfs_->advance(decision_ps_, done_);
+  else
+    dram_->advance(decision_ps_, done_);
+  note_decision();
+  for (const DramCompletion& d : done_) {
+    const uint64_t fill = cycles_.div_up(d.done_ps);
+    if (d.id & kDirectRead) {
+      answer(events, static_cast<uint32_t>(d.id), fill);
+      continue;
+    }
+    L1Timing& l1 = d.id & kDataRead ? *data_cache_ : node_l1_;
+    const size_t m = static_cast<uint32_t>(d.id);
+    l1.mshr_fill[m] = fill;
+    if (--l1.undecided == 0)
+      l1.busy_until = *std::max_element(l1.mshr_fill.begin(), l1.mshr_fill.end());
+    for (const uint32_t slot : l1.mshr_waiters[m]) answer(events, slot, fill);
+    l1.mshr_waiters[m].clear();
+  }
+  // The held lookups the DRAM has now decided far enough for, in port order.
+  for (L1Timing* l1 : {&node_l1_, data_cache_.get()}) {
+    if (!l1) continue;
+    uint64_t a = kWaits;
+    while (!l1->held.empty() && decide_lookup(*l1, l1->held.front(), a)) {
+      const uint32_t slot = l1->held.front().slot;
+      l1->held.pop_front();
+      if (a != kWaits) answer(events, slot, a);
+    }
+  }
 }
 
 template <class Sink>
@@ -95,19 +210,22 @@ uint64_t TimedEngine::send(Slot& slot, const RayStepLog::Fetch& f, uint64_t t, S
   uint64_t ready = t;
   if (!l1) {  // straight to DRAM: one request per line touched, as the unit sends them
     slot.dram_bytes += sink.fetch_to_dram(stream, f.addr, f.bytes);
-    for (uint64_t line = first; line <= last; ++line)
-      ready = std::max(ready, dram_read(line * line_bytes, static_cast<uint32_t>(line_bytes),
-                                        stream, t));
+    const uint64_t id = kDirectRead | static_cast<uint64_t>(&slot - slots_.data());
+    for (uint64_t line = first; line <= last; ++line) {
+      dram_enqueue(id, line * line_bytes, static_cast<uint32_t>(line_bytes), stream, t);
+      ++slot.waits;
+    }
     return ready;
   }
   if (first == last) {  // one line: it was in the tags when it caused no DRAM bytes
     const uint64_t bytes = sink.fetch(stream, f.addr, f.bytes);
     slot.dram_bytes += bytes;
-    return l1_line(*l1, first, bytes == 0, stream, t);
+    return l1_line(*l1, slot, first, bytes == 0, stream, t);
   }
   const SetAssocCache& tags = node ? caches.node_l1() : *caches.data_cache();
   for (uint64_t line = first; line <= last; ++line)
-    ready = std::max(ready, l1_line(*l1, line, tags.contains(line * line_bytes), stream, t));
+    ready = std::max(ready,
+                     l1_line(*l1, slot, line, tags.contains(line * line_bytes), stream, t));
   slot.dram_bytes += sink.fetch(stream, f.addr, f.bytes);
   return ready;
 }
@@ -121,7 +239,7 @@ uint64_t TimedEngine::send_node(Slot& slot, const RayStepLog::Fetch& f, uint64_t
   // One line: it was in the tags when it caused no DRAM bytes.
   const uint64_t bytes = sink.fetch_node_line(f.addr);
   slot.dram_bytes += bytes;
-  return l1_line(node_l1_, line, bytes == 0, Stream::kNode, t);
+  return l1_line(node_l1_, slot, line, bytes == 0, Stream::kNode, t);
 }
 
 void TimedEngine::begin_batch(size_t measure_from, bool stop_at_end) {
@@ -230,7 +348,13 @@ void TimedEngine::run(const RayStepLog& log, bool last, Sink& sink, Events& even
   }
   uint32_t slot;
   uint64_t t;
-  while (events.take(slot, t)) {
+  for (;;) {
+    // The earlier of the next event and the DRAM's next decision (an event of its time first).
+    if (!events.take(slot, t, decision_cycle_)) {
+      if (decision_ps_ == DramBackend::kNever) break;  // neither
+      dram_decide(events);
+      continue;
+    }
     Slot& s = slots_[slot];
     if (s.phase == Phase::kStep) [[likely]] {
       const uint64_t c = std::max(t, step_free_);  // the step pipeline: one step a cycle
@@ -240,9 +364,9 @@ void TimedEngine::run(const RayStepLog& log, bool last, Sink& sink, Events& even
         continue;
       }
       const RayStepLog::Fetch node = RayStepLog::next(s.next);
-      const uint64_t decided = send_node(s, node, c, sink, caches) + unit_.step_cycles;
+      const uint64_t in = send_node(s, node, c, sink, caches);  // decided step_cycles after
       if (node.kind == RayStepLog::Kind::kLeaf) s.phase = Phase::kLeafBody;
-      events.set(slot, decided);
+      await(events, slot, in, unit_.step_cycles);
       continue;
     }
     uint64_t ready;
@@ -253,7 +377,7 @@ void TimedEngine::run(const RayStepLog& log, bool last, Sink& sink, Events& even
         if (s.next != s.end && RayStepLog::kind(*s.next) == RayStepLog::Kind::kList) {
           ready = send(s, RayStepLog::next(s.next), t, sink, caches);
           s.phase = Phase::kTriangles;
-          events.set(slot, ready);
+          await(events, slot, ready, 0);
           break;
         }
         [[fallthrough]];
@@ -267,7 +391,7 @@ void TimedEngine::run(const RayStepLog& log, bool last, Sink& sink, Events& even
         }
         if (s.tests > 0) {
           s.phase = Phase::kIsect;
-          events.set(slot, ready);
+          await(events, slot, ready, 0);
           break;
         }
         [[fallthrough]];  // an empty leaf

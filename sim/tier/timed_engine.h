@@ -11,12 +11,20 @@
 //    its node's lines up in the node L1 (one lookup per cycle), is decided step_cycles after the
 //    last line is in; a leaf then reads its list, then its triangles, then tests them in the
 //    intersection lanes (isect.lanes, .interval_cycles, .latency_cycles), as the unit does;
-//  - an L1 line (node L1, and the data cache when dcache.enable): a line with a busy MSHR
-//    merges and waits for its fill; a line in the tags answers hit_cycles later; else a free
-//    MSHR sends the line read to DRAM hit_cycles later and the fill answers it; with none free
-//    the lookup port waits for the earliest fill;
-//  - DRAM: the configured timing model (dram.backend, its banks, rows and bus) with each read
-//    decided as soon as it is sent: first come, first served, no FR-FCFS reordering.
+//  - an L1 line (node L1, and the data cache when dcache.enable), looked up at cycle c on the
+//    L1's one in-order lookup port: a line with a busy MSHR merges and waits for its fill; a
+//    line in the tags answers hit_cycles later; else a free MSHR sends the line read to DRAM
+//    hit_cycles later and the fill answers it; with none free the port waits for the earliest
+//    fill (nothing looks up meanwhile), as the cycle tier's L1Cache does;
+//  - DRAM: the configured timing model (dram.backend) through its queue, as the cycle tier's
+//    Dram module drives it: a read is enqueued with its arrival time, the model decides at its
+//    next decision time (FR-FCFS: the oldest row hit first), and the fill is the completion
+//    rounded up to the clock. The slots' events and the DRAM's decisions go in time order (an
+//    event of the decision's time first). A read's fill is unknown until it is decided: the rays
+//    that wait for it have no event meanwhile, and an L1 lookup whose outcome an unknown fill may
+//    change (a merge with an undecided MSHR, a miss with no MSHR known to be free) is held, with
+//    the lookups behind it on that port, until the DRAM has decided far enough. Lists and
+//    triangles straight to DRAM (no data cache) are read through the queue as well.
 // Not modelled: the L1's fill port (one fill per cycle), its in-order port across rays of the
 // same cycle, the step pipeline's booking ahead of time. estimate.cycles (the last ray's end) is
 // therefore an estimate of the cycle tier's sim.cycles, not a cycle count.
@@ -32,6 +40,7 @@
 #pragma once
 #include <algorithm>
 #include <cstdint>
+#include <deque>
 #include <functional>
 #include <memory>
 #include <span>
@@ -89,15 +98,41 @@ class TimedEngine {
     uint32_t tests = 0;           // of the current leaf
     Phase phase = Phase::kStep;
     uint64_t dram_bytes = 0;      // of the current ray in the window, charged when it ends
+    // What its current event's sends wait for: answers (fills) not known yet, the latest
+    // answer known, and the cycles its next event comes after the last answer.
+    uint32_t waits = 0;
+    uint32_t then_cycles = 0;
+    uint64_t ready = 0;
   };
-  // One L1's timing: MSHRs (line, fill cycle) and the lookup port.
+  // A fill's cycle not known yet (its read is not decided): later than every cycle.
+  static constexpr uint64_t kUnknown = ~uint64_t{0};
+  // An L1 lookup's answer when its slot waits for a fill not known yet (a real answer is >= 1).
+  static constexpr uint64_t kWaits = 0;
+  // A DRAM read's id: the MSHR index for the node L1, with kDataRead for the data cache; a read
+  // straight to DRAM is kDirectRead | slot.
+  static constexpr uint64_t kDataRead = uint64_t{1} << 32, kDirectRead = uint64_t{2} << 32;
+  // A lookup of `line` (in the tags: `in_tags`) for `slot`'s ray at cycle t held back, with the
+  // port: its outcome depends on a fill not known yet. blocked_at: the cycle it found every
+  // MSHR busy (it takes the first fill), or kUnknown.
+  struct Lookup {
+    uint64_t line, t, blocked_at;
+    uint32_t slot;
+    bool in_tags;
+    Stream stream;
+  };
+  // One L1's timing: MSHRs (line, fill cycle, the slots waiting for the fill) and the lookup
+  // port.
   struct L1Timing {
     uint32_t hit_cycles = 1;
+    uint64_t read_id = 0;       // its DRAM reads' ids: read_id | MSHR index
     FastDivider line_size{64};  // byte address to line number
     std::vector<uint64_t> mshr_line;  // per MSHR: its line
-    std::vector<uint64_t> mshr_fill;  // per MSHR: its fill's cycle (busy before it)
+    std::vector<uint64_t> mshr_fill;  // per MSHR: its fill's cycle (busy before it), kUnknown
+    std::vector<std::vector<uint32_t>> mshr_waiters;  // per MSHR: the slots an unknown fill holds
+    uint32_t undecided = 0;   // MSHRs whose fill is unknown
+    std::deque<Lookup> held;  // lookups held back, in port order (non-empty: the port waits)
     uint64_t port_free = 0;
-    uint64_t busy_until = 0;  // the latest fill: no MSHR is busy from here on
+    uint64_t busy_until = 0;  // the latest fill: no MSHR is busy from here on (kUnknown: unknown)
     uint64_t line_filter = ~uint64_t{0};  // bit (line mod 64) of every MSHR's line, or more
     uint64_t primary = 0, merged = 0, stall_cycles = 0;
   };
@@ -113,7 +148,7 @@ class TimedEngine {
   void close_window(uint64_t t, const FetchCache& caches, const Charge& charge);
   // Sends fetch `f` of `slot`'s ray at cycle t: to the functional caches through `sink` (their
   // state and counts; its DRAM bytes charged to the ray) and through the timing model; returns
-  // the cycle its data is all there.
+  // the cycle its data is all there as far as known (the slot's waits count what is not).
   template <class Sink>
   uint64_t send(Slot& slot, const RayStepLog::Fetch& f, uint64_t t, Sink& sink,
                 const FetchCache& caches);
@@ -123,30 +158,41 @@ class TimedEngine {
                                                    uint64_t t, Sink& sink,
                                                    const FetchCache& caches);
   // The cycle line number `line` (in the tags before the access: `in_tags`) looked up in `l1`
-  // from cycle t is there.
-  [[gnu::always_inline]] uint64_t l1_line(L1Timing& l1, uint64_t line, bool in_tags, Stream s,
-                                          uint64_t t) {
-    const uint64_t c = std::max(t, l1.port_free);
-    l1.port_free = c + 1;
-    // Some MSHR is busy and may hold the line: a merge answers at its pending fill.
-    if (c < l1.busy_until && (l1.line_filter >> (line & 63) & 1)) {
-      uint64_t merged_fill = 0;  // a busy MSHR's fill is after c >= 0: 0 is none
-      for (size_t i = 0; i < l1.mshr_line.size(); ++i)
-        merged_fill = c < l1.mshr_fill[i] && l1.mshr_line[i] == line ? l1.mshr_fill[i]
-                                                                      : merged_fill;
-      if (merged_fill) {
-        ++l1.merged;
-        return merged_fill;
+  // for `slot` from cycle t is there, or kWaits (the slot's waits count it).
+  [[gnu::always_inline]] uint64_t l1_line(L1Timing& l1, Slot& slot, uint64_t line,
+                                          bool in_tags, Stream s, uint64_t t) {
+    if (l1.held.empty()) [[likely]] {
+      // A hit no MSHR can hold (no MSHR's line has its bit): no fill, known or not, changes it.
+      const uint64_t c = std::max(t, l1.port_free);
+      if (in_tags && (c >= l1.busy_until || !(l1.line_filter >> (line & 63) & 1))) [[likely]] {
+        l1.port_free = c + 1;
+        return c + l1.hit_cycles;
       }
     }
-    if (in_tags) [[likely]]
-      return c + l1.hit_cycles;
-    return l1_miss(l1, line, s, c);
+    return l1_lookup(l1, slot, line, in_tags, s, t);
   }
-  // A primary miss of `line` in `l1` looked up at cycle c: the cycle its fill is there.
-  uint64_t l1_miss(L1Timing& l1, uint64_t line, Stream s, uint64_t c);
-  // The cycle a DRAM read of `bytes` at `addr` sent at cycle t completes.
-  uint64_t dram_read(uint64_t addr, uint32_t bytes, Stream s, uint64_t t);
+  // l1_line() but for its common hit.
+  uint64_t l1_lookup(L1Timing& l1, Slot& slot, uint64_t line, bool in_tags, Stream s, uint64_t t);
+  // Decides lookup `q` (the first held, or none is) if no unknown fill can change its outcome:
+  // false when one can; else true and `answer` its cycle or kWaits (q.slot waits for an MSHR's
+  // fill). A primary miss sends its line read to DRAM.
+  bool decide_lookup(L1Timing& l1, Lookup& q, uint64_t& answer);
+  // Sends a read of `bytes` at `addr` arriving at cycle t to the DRAM's queue.
+  void dram_enqueue(uint64_t id, uint64_t addr, uint32_t bytes, Stream s, uint64_t t);
+  // The DRAM's next decision (decision_ps_, decision_cycle_) after its queue changed.
+  void note_decision();
+  // Makes the DRAM's decisions due at decision_ps_: sets the fills they give, answers the slots
+  // that wait for them, then decides what the held lookups can.
+  template <class Events>
+  void dram_decide(Events& events);
+  // `slot` gets answer `cycle` for one of its waits; the last sets its next event.
+  template <class Events>
+  void answer(Events& events, uint32_t slot, uint64_t cycle);
+  // `slot`'s sends of this event are done: its next event at `ready` (its answers known so far)
+  // + `then_cycles`, or when its last wait is answered.
+  template <class Events>
+  [[gnu::always_inline]] inline void await(Events& events, uint32_t slot, uint64_t ready,
+                                           uint32_t then_cycles);
 
   UnitParams unit_;
   uint64_t period_ps_;
@@ -156,7 +202,10 @@ class TimedEngine {
   L1Timing node_l1_;
   std::unique_ptr<L1Timing> data_cache_;  // nullptr: lists and triangles straight to DRAM
   std::unique_ptr<DramBackend> dram_;
-  FrFcfsDram* fr_fcfs_;  // dram_ when it is the default model: its read_now without a virtual call
+  FrFcfsDram* fr_fcfs_;  // dram_ when it is the default model: called without a virtual call
+  uint64_t decision_ps_ = DramBackend::kNever;  // the DRAM's next decision
+  uint64_t decision_cycle_ = kUnknown;  // the last cycle at or before it (kUnknown: never)
+  std::vector<DramCompletion> done_;  // scratch: a decision's completions
   std::vector<Slot> slots_;
   // Each busy slot's next event, in EventWheel's order: a wheel up to 128 slots, else the tree.
   std::variant<SlotEventWheel<1>, SlotEventWheel<2>, SlotEventTree> events_;

@@ -42,10 +42,6 @@ class DramBackend {
   virtual uint64_t next_decision_ps() const = 0;
   // Makes every decision due at or before `now_ps`; appends one completion per scheduled request.
   virtual void advance(uint64_t now_ps, std::vector<DramCompletion>& out) = 0;
-  // One read decided at once, with nothing else queued (the timed interleaver's DRAM): counts
-  // it, leaves the queue empty and returns its done_ps, as enqueue(r) then
-  // advance(next_decision_ps()) would. A model overrides it to skip the queue.
-  virtual uint64_t read_now(const DramRequest& r);
   // Writes `prefix`.requests, .bytes.{nodes,lists,triangles,total} and the model's own keys
   // (FR-FCFS: .row_hits, .row_misses, .row_conflicts, .row_hit_rate).
   virtual void write_stats(Stats& stats, const std::string& prefix) const = 0;

@@ -1,7 +1,6 @@
 #include "mem/dram/fixed_latency_dram.h"
 
 #include <algorithm>
-#include <stdexcept>
 #include <tuple>
 
 namespace rtusim {
@@ -27,12 +26,6 @@ uint64_t FixedLatencyDram::serve(Channel& c, const DramRequest& r) {
   c.bus_free_ps = done;
   count(r);
   return done;
-}
-
-uint64_t FixedLatencyDram::read_now(const DramRequest& r) {
-  if (next_decision_ps_ != kNever) throw std::logic_error("DRAM read_now: requests queued");
-  ++seq_;
-  return serve(channel_of(r.addr), r);
 }
 
 void FixedLatencyDram::advance(uint64_t now_ps, std::vector<DramCompletion>& out) {

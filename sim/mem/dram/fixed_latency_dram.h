@@ -23,8 +23,6 @@ class FixedLatencyDram final : public DramBackend {
   void enqueue(const DramRequest& r) override;
   uint64_t next_decision_ps() const override { return next_decision_ps_; }
   void advance(uint64_t now_ps, std::vector<DramCompletion>& out) override;
-  // Nothing queued: the read has the bus as soon as it is free.
-  uint64_t read_now(const DramRequest& r) override;
   // `prefix`.requests and .bytes.{nodes,lists,triangles,total}.
   void write_stats(Stats& stats, const std::string& prefix) const override;
 

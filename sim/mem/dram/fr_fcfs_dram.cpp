@@ -1,6 +1,7 @@
 #include "mem/dram/fr_fcfs_dram.h"
 
 #include <algorithm>
+#include <bit>
 
 #include "util/stats.h"
 
@@ -16,8 +17,9 @@ FrFcfsDram::FrFcfsDram(const DramParams& p)
   channels_.resize(p.channels);
   for (Channel& c : channels_) {
     c.banks.resize(p.banks);
-    c.waiting.resize(p.banks, 0);
-    c.seen.resize(p.banks, 0);
+    c.head.assign(p.banks, kNil);
+    c.tail.assign(p.banks, kNil);
+    c.queued.assign((p.banks + 63) / 64, 0);
   }
 }
 
@@ -36,14 +38,17 @@ void FrFcfsDram::enqueue(const DramRequest& r) {
   q.req = r;
   q.loc = loc;
   q.seq = seq_++;
-  // In age order; requests mostly come in arrival order, so the place is found from the back.
-  uint32_t before = c.tail;  // q goes after it (kNil: first)
+  // In its bank's age order; requests mostly come in arrival order, so the place is found from
+  // the back.
+  uint32_t& head = c.head[loc.bank];
+  uint32_t& tail = c.tail[loc.bank];
+  uint32_t before = tail;  // q goes after it (kNil: first)
   while (before != kNil && older(q, c.pool[before])) before = c.pool[before].prev;
   q.prev = before;
-  q.next = before == kNil ? c.head : c.pool[before].next;
-  (before == kNil ? c.head : c.pool[before].next) = e;
-  (q.next == kNil ? c.tail : c.pool[q.next].prev) = e;
-  if (c.waiting[loc.bank]++ == 0) ++c.banks_waiting;
+  q.next = before == kNil ? head : c.pool[before].next;
+  (before == kNil ? head : c.pool[before].next) = e;
+  (q.next == kNil ? tail : c.pool[q.next].prev) = e;
+  c.queued[loc.bank / 64] |= uint64_t{1} << (loc.bank % 64);
   next_decision_ps_ = std::min(next_decision_ps_, eligible_at(c, q));
 }
 
@@ -54,51 +59,45 @@ void FrFcfsDram::advance(uint64_t now_ps, std::vector<DramCompletion>& out) {
     for (;;) {
       // FR-FCFS over the requests that can start now: row hits first, then age. Equal arrival
       // times go by address, so the order in which initiators happened to enqueue them (an
-      // artefact of the simulation, not of the hardware) does not matter. The queue is in age
-      // order: the first eligible row hit is the choice, else the first eligible request.
-      // With none eligible, the channel's next decision is the earliest time one becomes so:
-      // per bank, that of its oldest request (the bank's ready time is the same for all), so
-      // the scan stops once it has met every bank with requests, or a request arriving after
-      // the earliest time found (all after it arrive later still).
-      ++scan_;
-      const Queued* const pool = c.pool.data();
+      // artefact of the simulation, not of the hardware) does not matter. A bank's requests can
+      // start now if it is ready and they have arrived: in its queue (age order) the first of
+      // them with the open row is its best row hit, else the first is its oldest; the choice is
+      // the oldest such row hit over the banks, else the oldest such request. With none, the
+      // channel's next decision is the earliest time one can start: per bank, its oldest
+      // request's (the bank's ready time is the same for all of them).
+      Queued* const pool = c.pool.data();
       constexpr uint32_t n = kNil;
-      uint32_t best = n, oldest = n;
+      uint32_t hit = n, oldest = n;
       uint64_t later = kNever;
-      uint32_t banks_met = 0;
-      for (uint32_t i = c.head; i != kNil; i = pool[i].next) {
-        const Queued& q = pool[i];
-        const Bank& b = c.banks[q.loc.bank];
-        const uint64_t at = std::max(q.req.arrival_ps, b.ready_ps);
-        if (at <= now_ps) {
-          if (b.open_row == q.loc.row) {
-            best = i;
+      for (size_t w = 0; w < c.queued.size(); ++w) {
+        for (uint64_t left = c.queued[w]; left; left &= left - 1) {  // the banks with requests
+          const size_t k = w * 64 + static_cast<size_t>(std::countr_zero(left));
+          uint32_t i = c.head[k];
+          const Bank& b = c.banks[k];
+          const uint64_t at = std::max(pool[i].req.arrival_ps, b.ready_ps);
+          if (at > now_ps) {
+            later = std::min(later, at);
+            continue;
+          }
+          if (oldest == n || older(pool[i], pool[oldest])) oldest = i;
+          for (; i != n && pool[i].req.arrival_ps <= now_ps; i = pool[i].next) {
+            if (pool[i].loc.row != b.open_row) continue;
+            if (hit == n || older(pool[i], pool[hit])) hit = i;
             break;
           }
-          if (oldest == n) oldest = i;
-          continue;
-        }
-        if (oldest != n) {  // one is eligible: only an eligible row hit can still win
-          if (q.req.arrival_ps > now_ps) break;
-          continue;
-        }
-        later = std::min(later, at);
-        if (q.req.arrival_ps >= later) break;
-        if (c.seen[q.loc.bank] != scan_) {
-          c.seen[q.loc.bank] = scan_;
-          if (++banks_met == c.banks_waiting) break;
         }
       }
-      if (best == n) best = oldest;
+      const uint32_t best = hit != n ? hit : oldest;
       if (best == n) {  // the channel's next decision: every request left waits
         next_decision = std::min(next_decision, later);
         break;
       }
       const Queued q = pool[best];
-      (q.prev == kNil ? c.head : c.pool[q.prev].next) = q.next;
-      (q.next == kNil ? c.tail : c.pool[q.next].prev) = q.prev;
+      (q.prev == kNil ? c.head[q.loc.bank] : pool[q.prev].next) = q.next;
+      if (c.head[q.loc.bank] == kNil)
+        c.queued[q.loc.bank / 64] &= ~(uint64_t{1} << (q.loc.bank % 64));
+      (q.next == kNil ? c.tail[q.loc.bank] : pool[q.next].prev) = q.prev;
       c.free.push_back(best);
-      if (--c.waiting[q.loc.bank] == 0) --c.banks_waiting;
 
       const uint64_t done = serve(c, c.banks[q.loc.bank], q.loc.row, q.req, eligible_at(c, q));
       out.push_back({q.req.id, done});

@@ -13,7 +13,6 @@
 // the command bus, writes (the unit only reads).
 #pragma once
 #include <algorithm>
-#include <stdexcept>
 #include <vector>
 
 #include "mem/dram/dram_backend.h"
@@ -32,8 +31,6 @@ class FrFcfsDram final : public DramBackend {
   void enqueue(const DramRequest& r) override;
   uint64_t next_decision_ps() const override { return next_decision_ps_; }
   void advance(uint64_t now_ps, std::vector<DramCompletion>& out) override;
-  // Nothing queued: the read goes when its bank is ready, no queue or choice involved.
-  uint64_t read_now(const DramRequest& r) override;
   void write_stats(Stats& stats, const std::string& prefix) const override;
 
   struct Location {
@@ -53,7 +50,7 @@ class FrFcfsDram final : public DramBackend {
     DramRequest req;
     Location loc;
     uint64_t seq;  // enqueue order: the last tie-break (after arrival time, then address)
-    uint32_t prev = kNil, next = kNil;  // the queue's neighbours (Channel::head)
+    uint32_t prev = kNil, next = kNil;  // the neighbours in its bank's queue (Channel::head)
   };
   struct Bank {
     uint64_t open_row = kNoRow;
@@ -66,16 +63,13 @@ class FrFcfsDram final : public DramBackend {
     return a.seq < b.seq;
   }
   struct Channel {
-    // The queue, oldest first (older()), a list threaded through `pool` from `head` (a pool
-    // entry not in it is in `free`); picked by (row hit, age).
+    // Per bank, its queue, oldest first (older()), a list threaded through `pool` from
+    // head[bank] to tail[bank] (a pool entry in none is in `free`).
     std::vector<Queued> pool;
     std::vector<uint32_t> free;
-    uint32_t head = kNil, tail = kNil;
+    std::vector<uint32_t> head, tail;
+    std::vector<uint64_t> queued;  // bit k % 64 of word k / 64: bank k's queue is not empty
     std::vector<Bank> banks;
-    // Per bank: its requests in the queue, and the scan that last met one of them (scan_).
-    std::vector<uint32_t> waiting;
-    std::vector<uint64_t> seen;
-    uint32_t banks_waiting = 0;  // banks with a request in the queue
     uint64_t bus_free_ps = 0;
   };
 
@@ -93,12 +87,11 @@ class FrFcfsDram final : public DramBackend {
   std::vector<Channel> channels_;
   uint64_t next_decision_ps_ = kNever;
   uint64_t seq_ = 0;
-  uint64_t scan_ = 0;  // scans made (Channel::seen)
   uint64_t row_hits_ = 0, row_misses_ = 0, row_conflicts_ = 0;
   uint64_t busy_until_ps_ = 0;
 };
 
-// Inline: the timed interleaver calls read_now once per DRAM read.
+// Inline: called once per DRAM request (enqueue, and the timed engine through the queue).
 inline FrFcfsDram::Location FrFcfsDram::locate(uint64_t addr) const {
   const uint64_t chunk = row_.div(addr);
   const uint64_t per_channel = channel_.div(chunk);
@@ -130,15 +123,6 @@ inline uint64_t FrFcfsDram::serve(Channel& c, Bank& b, uint64_t row, const DramR
   count(r);
   busy_until_ps_ = std::max(busy_until_ps_, done);
   return done;
-}
-
-inline uint64_t FrFcfsDram::read_now(const DramRequest& r) {
-  if (next_decision_ps_ != kNever) throw std::logic_error("DRAM read_now: requests queued");
-  const Location loc = locate(r.addr);
-  Channel& c = channels_[loc.channel];
-  Bank& b = c.banks[loc.bank];
-  ++seq_;
-  return serve(c, b, loc.row, r, std::max(r.arrival_ps, b.ready_ps));
 }
 
 }  // namespace rtusim
