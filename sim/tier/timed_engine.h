@@ -171,7 +171,7 @@ class TimedEngine {
     }
     return l1_lookup(l1, slot, line, in_tags, s, t);
   }
-  // l1_line() but for its common hit.
+  // l1_line() past its common hit: a lookup that may merge, miss or wait behind held ones.
   uint64_t l1_lookup(L1Timing& l1, Slot& slot, uint64_t line, bool in_tags, Stream s, uint64_t t);
   // Decides lookup `q` (the first held, or none is) if no unknown fill can change its outcome:
   // false when one can; else true and `answer` its cycle or kWaits (q.slot waits for an MSHR's
