@@ -194,8 +194,8 @@ void TimedEngine::dram_decide(Events& events) {
     l1.mshr_waiters[m].clear();
   }
   // The held lookups the DRAM has now decided far enough for, in port order.
-  decide_held(events, node_l1_);
-  if (data_cache_) decide_held(events, *data_cache_);
+  if (!node_l1_.held.empty()) decide_held(events, node_l1_);
+  if (data_cache_ && !data_cache_->held.empty()) decide_held(events, *data_cache_);
 }
 
 template <class Events>

@@ -188,7 +188,7 @@ class TimedEngine {
   // that wait for them, then decides what the held lookups can.
   template <class Events>
   void dram_decide(Events& events);
-  // dram_decide() for `l1`'s held lookups, in port order.
+  // dram_decide() for `l1`'s held lookups (some), in port order.
   template <class Events>
   void decide_held(Events& events, L1Timing& l1);
   // `slot` gets answer `cycle` for one of its waits; the last sets its next event.
