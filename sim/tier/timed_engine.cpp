@@ -61,7 +61,9 @@ void TimedEngine::dram_enqueue(uint64_t id, uint64_t addr, uint32_t bytes, Strea
     fr_fcfs_->enqueue(r);
   else
     dram_->enqueue(r);
-  note_decision();
+  // A read can only bring the next decision forward: mostly it does not.
+  const uint64_t ps = fr_fcfs_ ? fr_fcfs_->next_decision_ps() : dram_->next_decision_ps();
+  if (ps != decision_ps_) note_decision();
 }
 
 uint64_t TimedEngine::l1_lookup(L1Timing& l1, Slot& slot, uint64_t line, bool in_tags, Stream s,
@@ -88,7 +90,10 @@ bool TimedEngine::decide_lookup(L1Timing& l1, Lookup& q, uint64_t& answer) {
       size_t match = mshrs;
       for (size_t i = 0; i < mshrs; ++i) {
         if (l1.mshr_line[i] != q.line || c >= l1.mshr_fill[i]) continue;
-        if (l1.mshr_fill[i] == kUnknown && !known_busy) return false;  // busy at c or not
+        if (l1.mshr_fill[i] == kUnknown && !known_busy) {  // busy at c or not
+          l1.held_until = c;
+          return false;
+        }
         match = i;
       }
       if (match != mshrs) {
@@ -112,7 +117,10 @@ bool TimedEngine::decide_lookup(L1Timing& l1, Lookup& q, uint64_t& answer) {
     for (m = 0; m < mshrs && l1.mshr_fill[m] > c; ++m) {
     }
     if (m == mshrs) {
-      if (l1.undecided != 0 && !known_busy) return false;
+      if (l1.undecided != 0 && !known_busy) {
+        l1.held_until = c;
+        return false;
+      }
       q.blocked_at = c;
     }
   }
@@ -121,7 +129,10 @@ bool TimedEngine::decide_lookup(L1Timing& l1, Lookup& q, uint64_t& answer) {
     m = static_cast<size_t>(std::min_element(l1.mshr_fill.begin(), l1.mshr_fill.end()) -
                             l1.mshr_fill.begin());
     c = l1.mshr_fill[m];
-    if (c == kUnknown || (l1.undecided != 0 && c > decision_cycle_)) return false;
+    if (c == kUnknown || (l1.undecided != 0 && c > decision_cycle_)) {
+      l1.held_until = c;
+      return false;
+    }
     l1.stall_cycles += c - q.blocked_at;
   }
   l1.port_free = c + 1;
@@ -176,20 +187,25 @@ void TimedEngine::dram_decide(Events& events) {
     L1Timing& l1 = d.id & kDataRead ? *data_cache_ : node_l1_;
     const size_t m = static_cast<uint32_t>(d.id);
     l1.mshr_fill[m] = fill;
+    l1.held_until = 0;
     if (--l1.undecided == 0)
       l1.busy_until = *std::max_element(l1.mshr_fill.begin(), l1.mshr_fill.end());
     for (const uint32_t slot : l1.mshr_waiters[m]) answer(events, slot, fill);
     l1.mshr_waiters[m].clear();
   }
   // The held lookups the DRAM has now decided far enough for, in port order.
-  for (L1Timing* l1 : {&node_l1_, data_cache_.get()}) {
-    if (!l1) continue;
-    uint64_t a = kWaits;
-    while (!l1->held.empty() && decide_lookup(*l1, l1->held.front(), a)) {
-      const uint32_t slot = l1->held.front().slot;
-      l1->held.pop_front();
-      if (a != kWaits) answer(events, slot, a);
-    }
+  if (!node_l1_.held.empty()) decide_held(events, node_l1_);
+  if (data_cache_ && !data_cache_->held.empty()) decide_held(events, *data_cache_);
+}
+
+template <class Events>
+void TimedEngine::decide_held(Events& events, L1Timing& l1) {
+  if (decision_cycle_ < l1.held_until) return;  // no fill known since, the DRAM not far enough
+  uint64_t a = kWaits;
+  while (!l1.held.empty() && decide_lookup(l1, l1.held.front(), a)) {
+    const uint32_t slot = l1.held.front().slot;
+    l1.held.pop_front();
+    if (a != kWaits) answer(events, slot, a);
   }
 }
 

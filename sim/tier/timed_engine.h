@@ -131,6 +131,9 @@ class TimedEngine {
     std::vector<std::vector<uint32_t>> mshr_waiters;  // per MSHR: the slots an unknown fill holds
     uint32_t undecided = 0;   // MSHRs whose fill is unknown
     std::deque<Lookup> held;  // lookups held back, in port order (non-empty: the port waits)
+    // The first held lookup stays held until the DRAM's next decision reaches this cycle or a
+    // fill of this L1 becomes known (then 0).
+    uint64_t held_until = 0;
     uint64_t port_free = 0;
     uint64_t busy_until = 0;  // the latest fill: no MSHR is busy from here on (kUnknown: unknown)
     uint64_t line_filter = ~uint64_t{0};  // bit (line mod 64) of every MSHR's line, or more
@@ -185,6 +188,9 @@ class TimedEngine {
   // that wait for them, then decides what the held lookups can.
   template <class Events>
   void dram_decide(Events& events);
+  // dram_decide() for `l1`'s held lookups (some), in port order.
+  template <class Events>
+  void decide_held(Events& events, L1Timing& l1);
   // `slot` gets answer `cycle` for one of its waits; the last sets its next event.
   template <class Events>
   void answer(Events& events, uint32_t slot, uint64_t cycle);

@@ -69,6 +69,7 @@ void FrFcfsDram::advance(uint64_t now_ps, std::vector<DramCompletion>& out) {
       constexpr uint32_t n = kNil;
       uint32_t hit = n, oldest = n;
       uint64_t later = kNever;
+      uint32_t ready_banks = 0;
       for (size_t w = 0; w < c.queued.size(); ++w) {
         for (uint64_t left = c.queued[w]; left; left &= left - 1) {  // the banks with requests
           const size_t k = w * 64 + static_cast<size_t>(std::countr_zero(left));
@@ -79,6 +80,7 @@ void FrFcfsDram::advance(uint64_t now_ps, std::vector<DramCompletion>& out) {
             later = std::min(later, at);
             continue;
           }
+          ++ready_banks;
           if (oldest == n || older(pool[i], pool[oldest])) oldest = i;
           for (; i != n && pool[i].req.arrival_ps <= now_ps; i = pool[i].next) {
             if (pool[i].loc.row != b.open_row) continue;
@@ -101,6 +103,16 @@ void FrFcfsDram::advance(uint64_t now_ps, std::vector<DramCompletion>& out) {
 
       const uint64_t done = serve(c, c.banks[q.loc.bank], q.loc.row, q.req, eligible_at(c, q));
       out.push_back({q.req.id, done});
+      // With no other bank ready, a rescan would only find this bank's next time to start: if
+      // it is later, the channel's next decision is known without it.
+      if (ready_banks == 1) {
+        const uint32_t h = c.head[q.loc.bank];
+        const uint64_t at = h == kNil ? kNever : eligible_at(c, pool[h]);
+        if (at > now_ps) {
+          next_decision = std::min(next_decision, std::min(later, at));
+          break;
+        }
+      }
     }
   }
   next_decision_ps_ = next_decision;
