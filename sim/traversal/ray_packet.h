@@ -25,7 +25,6 @@
 #if defined(__AVX2__)
 #define RTUSIM_RAY_PACKETS 1
 #include <cstdint>
-#include <type_traits>
 
 #include "traversal/packet_simd8.h"
 #include "traversal/traversal.h"
@@ -71,7 +70,7 @@ class BasicRayPacket {
       org_side_[a][lane] = s.org_side[a];
     }
     wray_[lane] = s.wray;
-    if constexpr (kLeafLanes) wlanes_.set_lane(lane, s.wray);
+    wlanes_.set_lane(lane, s.wray);
     ray_t_max_[lane] = ray.t_max;
     t_min_[lane] = s.t_min;
     t_max_[lane] = s.t_max;
@@ -95,11 +94,10 @@ class BasicRayPacket {
   static constexpr int kStackDepth = 2 * TraversalState::kStackDepth;
   using Vec = typename Simd::Vec;
   using Mask = typename Simd::Mask;
-  // Whether leaves test a triangle against the lanes at once (8 lanes), and from how many
-  // active lanes.
-  static constexpr bool kLeafLanes = std::is_same_v<Simd, PacketSimd8>;
+  // Leaves test a triangle against the lanes at once (WatertightLanes8: 8 lanes) from this
+  // many active lanes.
+  static_assert(kLanes == 8, "the lanes' leaf test is 8 wide");
   static constexpr int kLeafLanesMin = 2;
-  struct NoLeafLanes {};
   struct Entry {
     Vec t_min, t_max;  // per lane: the interval in the child
     uint64_t addr;     // the child
@@ -137,7 +135,7 @@ class BasicRayPacket {
   alignas(64) uint32_t hit_tri_[kLanes];
   alignas(64) float ray_t_max_[kLanes];
   WatertightRay wray_[kLanes];
-  [[no_unique_address]] std::conditional_t<kLeafLanes, WatertightLanes8, NoLeafLanes> wlanes_;
+  WatertightLanes8 wlanes_;
   uint32_t any_hit_ = 0;  // lanes in any-hit mode
   uint32_t live_ = 0;     // lanes not finished
   Stats stats_;
@@ -152,11 +150,9 @@ void BasicRayPacket<Simd>::leaf(const MemoryImage& image, const NodeView& n, Mas
     live_ &= ~Simd::bits(Simd::le(active, Simd::load(hit_t_), Simd::load(t_max_)));
     return;
   }
-  if constexpr (kLeafLanes) {
-    if (__builtin_popcount(Simd::bits(active)) >= kLeafLanesMin) {
-      leaf_lanes(image, n, active, lanes);
-      return;
-    }
+  if (__builtin_popcount(Simd::bits(active)) >= kLeafLanesMin) {
+    leaf_lanes(image, n, active, lanes);
+    return;
   }
   for (uint32_t m = Simd::bits(active); m != 0; m &= m - 1) {
     const int i = __builtin_ctz(m);
@@ -175,77 +171,75 @@ template <class Simd>
 template <class Lanes>
 void BasicRayPacket<Simd>::leaf_lanes(const MemoryImage& image, const NodeView& n, Mask active,
                                       Lanes& lanes) {
-  if constexpr (kLeafLanes) {
-    const uint8_t* bytes = image.bytes.data();
-    // Each lane's list fetch first, as leaf_triangles() reports it.
+  const uint8_t* bytes = image.bytes.data();
+  // Each lane's list fetch first, as leaf_triangles() reports it.
+  if constexpr (!Lanes::kDropsFetches)
+    if (n.prim_count >= 2)
+      for (uint32_t m = Simd::bits(active); m != 0; m &= m - 1)
+        lanes.lane(__builtin_ctz(m)).fetch(Stream::kList, n.list_addr, n.prim_count * 4u);
+  // The lanes still testing (an any-hit lane stops at its first hit), and their hits so far.
+  __m256 todo = _mm256_castsi256_ps(active.v);
+  __m256 ht = _mm256_load_ps(hit_t_), hu = _mm256_load_ps(hit_u_), hv = _mm256_load_ps(hit_v_);
+  __m256 htri = _mm256_load_ps(reinterpret_cast<const float*>(hit_tri_));
+  const __m256 ray_t_max = _mm256_load_ps(ray_t_max_);
+  const __m256 any_hit = _mm256_castsi256_ps(Simd::from_bits(any_hit_).v);
+  uint32_t done = 0;  // any-hit lanes that found one
+  ++stats_.lane_leaves;
+  for (uint32_t k = 0; k < n.prim_count; ++k) {
+    const uint32_t tri = detail::leaf_triangle(image, n, k);
+    const uint64_t ta = image.triangle_addr(tri);
     if constexpr (!Lanes::kDropsFetches)
-      if (n.prim_count >= 2)
-        for (uint32_t m = Simd::bits(active); m != 0; m &= m - 1)
-          lanes.lane(__builtin_ctz(m)).fetch(Stream::kList, n.list_addr, n.prim_count * 4u);
-    // The lanes still testing (an any-hit lane stops at its first hit), and their hits so far.
-    __m256 todo = _mm256_castsi256_ps(active.v);
-    __m256 ht = _mm256_load_ps(hit_t_), hu = _mm256_load_ps(hit_u_), hv = _mm256_load_ps(hit_v_);
-    __m256 htri = _mm256_load_ps(reinterpret_cast<const float*>(hit_tri_));
-    const __m256 ray_t_max = _mm256_load_ps(ray_t_max_);
-    const __m256 any_hit = _mm256_castsi256_ps(Simd::from_bits(any_hit_).v);
-    uint32_t done = 0;  // any-hit lanes that found one
-    ++stats_.lane_leaves;
-    for (uint32_t k = 0; k < n.prim_count; ++k) {
-      const uint32_t tri = detail::leaf_triangle(image, n, k);
-      const uint64_t ta = image.triangle_addr(tri);
-      if constexpr (!Lanes::kDropsFetches)
-        for (uint32_t m = static_cast<uint32_t>(_mm256_movemask_ps(todo)); m != 0; m &= m - 1)
-          lanes.lane(__builtin_ctz(m)).fetch(Stream::kTriangle, ta, MemoryImage::kTriangleBytes);
-      // record_hit()'s limit std::min(hit.t, ray_t_max): ray_t_max < hit.t ? ray_t_max : hit.t.
-      const WatertightLanes8::Outcome o =
-          wlanes_.test(bytes + ta, todo, _mm256_min_ps(ray_t_max, ht));
-      __m256 got = o.hit;
-      ht = _mm256_blendv_ps(ht, o.t, got);
-      hu = _mm256_blendv_ps(hu, o.u, got);
-      hv = _mm256_blendv_ps(hv, o.v, got);
-      htri = _mm256_blendv_ps(htri, _mm256_castsi256_ps(_mm256_set1_epi32(static_cast<int>(tri))),
-                              got);
-      if (!_mm256_testz_ps(o.scalar, o.scalar)) [[unlikely]] {
-        // The single-ray test for these lanes, on the hits so far.
-        _mm256_store_ps(hit_t_, ht);
-        _mm256_store_ps(hit_u_, hu);
-        _mm256_store_ps(hit_v_, hv);
-        _mm256_store_ps(reinterpret_cast<float*>(hit_tri_), htri);
-        uint32_t scalar_hits = 0;
-        const detail::PackedFloats v{bytes + ta};
-        for (uint32_t m = static_cast<uint32_t>(_mm256_movemask_ps(o.scalar)); m != 0; m &= m - 1) {
-          const int i = __builtin_ctz(m);
-          ++stats_.lane_scalar_tests;
-          Hit h = hit(i);
-          if (detail::record_hit(h, ray_t_max_[i], tri,
-                                 [&](float t_limit, float& t, float& bu, float& bv) {
-                                   return intersect_watertight(wray_[i], v, t_limit, t, bu, bv);
-                                 })) {
-            set_hit(i, h);
-            scalar_hits |= 1u << i;
-          }
+      for (uint32_t m = static_cast<uint32_t>(_mm256_movemask_ps(todo)); m != 0; m &= m - 1)
+        lanes.lane(__builtin_ctz(m)).fetch(Stream::kTriangle, ta, MemoryImage::kTriangleBytes);
+    // record_hit()'s limit std::min(hit.t, ray_t_max): ray_t_max < hit.t ? ray_t_max : hit.t.
+    const WatertightLanes8::Outcome o =
+        wlanes_.test(bytes + ta, todo, _mm256_min_ps(ray_t_max, ht));
+    __m256 got = o.hit;
+    ht = _mm256_blendv_ps(ht, o.t, got);
+    hu = _mm256_blendv_ps(hu, o.u, got);
+    hv = _mm256_blendv_ps(hv, o.v, got);
+    htri = _mm256_blendv_ps(htri, _mm256_castsi256_ps(_mm256_set1_epi32(static_cast<int>(tri))),
+                            got);
+    if (!_mm256_testz_ps(o.scalar, o.scalar)) [[unlikely]] {
+      // The single-ray test for these lanes, on the hits so far.
+      _mm256_store_ps(hit_t_, ht);
+      _mm256_store_ps(hit_u_, hu);
+      _mm256_store_ps(hit_v_, hv);
+      _mm256_store_ps(reinterpret_cast<float*>(hit_tri_), htri);
+      uint32_t scalar_hits = 0;
+      const detail::PackedFloats v{bytes + ta};
+      for (uint32_t m = static_cast<uint32_t>(_mm256_movemask_ps(o.scalar)); m != 0; m &= m - 1) {
+        const int i = __builtin_ctz(m);
+        ++stats_.lane_scalar_tests;
+        Hit h = hit(i);
+        if (detail::record_hit(h, ray_t_max_[i], tri,
+                               [&](float t_limit, float& t, float& bu, float& bv) {
+                                 return intersect_watertight(wray_[i], v, t_limit, t, bu, bv);
+                               })) {
+          set_hit(i, h);
+          scalar_hits |= 1u << i;
         }
-        ht = _mm256_load_ps(hit_t_);
-        hu = _mm256_load_ps(hit_u_);
-        hv = _mm256_load_ps(hit_v_);
-        htri = _mm256_load_ps(reinterpret_cast<const float*>(hit_tri_));
-        got = _mm256_or_ps(got, _mm256_castsi256_ps(Simd::from_bits(scalar_hits).v));
       }
-      // Any-hit lanes that hit are done here.
-      const __m256 finished = _mm256_and_ps(got, any_hit);
-      if (!_mm256_testz_ps(finished, finished)) {
-        done |= static_cast<uint32_t>(_mm256_movemask_ps(finished));
-        todo = _mm256_andnot_ps(finished, todo);
-        if (_mm256_testz_ps(todo, todo)) break;
-      }
+      ht = _mm256_load_ps(hit_t_);
+      hu = _mm256_load_ps(hit_u_);
+      hv = _mm256_load_ps(hit_v_);
+      htri = _mm256_load_ps(reinterpret_cast<const float*>(hit_tri_));
+      got = _mm256_or_ps(got, _mm256_castsi256_ps(Simd::from_bits(scalar_hits).v));
     }
-    _mm256_store_ps(hit_t_, ht);
-    _mm256_store_ps(hit_u_, hu);
-    _mm256_store_ps(hit_v_, hv);
-    _mm256_store_ps(reinterpret_cast<float*>(hit_tri_), htri);
-    // As leaf_step(): finished when the hit lies inside the leaf's interval, or (any-hit) found.
-    live_ &= ~(done | Simd::bits(Simd::le(active, ht, Simd::load(t_max_))));
+    // Any-hit lanes that hit are done here.
+    const __m256 finished = _mm256_and_ps(got, any_hit);
+    if (!_mm256_testz_ps(finished, finished)) {
+      done |= static_cast<uint32_t>(_mm256_movemask_ps(finished));
+      todo = _mm256_andnot_ps(finished, todo);
+      if (_mm256_testz_ps(todo, todo)) break;
+    }
   }
+  _mm256_store_ps(hit_t_, ht);
+  _mm256_store_ps(hit_u_, hu);
+  _mm256_store_ps(hit_v_, hv);
+  _mm256_store_ps(reinterpret_cast<float*>(hit_tri_), htri);
+  // As leaf_step(): finished when the hit lies inside the leaf's interval, or (any-hit) found.
+  live_ &= ~(done | Simd::bits(Simd::le(active, ht, Simd::load(t_max_))));
 }
 
 template <class Simd>
