@@ -51,18 +51,17 @@ TimedEngine::TimedEngine(const CycleParams& timing, int rays_in_flight)
 TimedEngine::~TimedEngine() = default;
 
 void TimedEngine::note_decision() {
-  decision_ps_ = fr_fcfs_ ? fr_fcfs_->next_decision_ps() : dram_->next_decision_ps();
+  decision_ps_ = with_dram([](auto& d) { return d.next_decision_ps(); });
   decision_cycle_ = decision_ps_ == DramBackend::kNever ? kUnknown : cycles_.div(decision_ps_);
 }
 
 void TimedEngine::dram_enqueue(uint64_t id, uint64_t addr, uint32_t bytes, Stream s, uint64_t t) {
   const DramRequest r{id, addr, bytes, t * period_ps_, s};
-  if (fr_fcfs_)
-    fr_fcfs_->enqueue(r);
-  else
-    dram_->enqueue(r);
   // A read can only bring the next decision forward: mostly it does not.
-  const uint64_t ps = fr_fcfs_ ? fr_fcfs_->next_decision_ps() : dram_->next_decision_ps();
+  const uint64_t ps = with_dram([&](auto& d) {
+    d.enqueue(r);
+    return d.next_decision_ps();
+  });
   if (ps != decision_ps_) note_decision();
 }
 
@@ -173,10 +172,7 @@ void TimedEngine::await(Events& events, uint32_t slot, uint64_t ready, uint32_t 
 template <class Events>
 void TimedEngine::dram_decide(Events& events) {
   done_.clear();
-  if (fr_fcfs_)
-    fr_fcfs_->advance(decision_ps_, done_);
-  else
-    dram_->advance(decision_ps_, done_);
+  with_dram([&](auto& d) { d.advance(decision_ps_, done_); });
   note_decision();
   for (const DramCompletion& d : done_) {
     const uint64_t fill = cycles_.div_up(d.done_ps);

@@ -182,6 +182,11 @@ class TimedEngine {
   bool decide_lookup(L1Timing& l1, Lookup& q, uint64_t& answer);
   // Sends a read of `bytes` at `addr` arriving at cycle t to the DRAM's queue.
   void dram_enqueue(uint64_t id, uint64_t addr, uint32_t bytes, Stream s, uint64_t t);
+  // `f` called with the DRAM model: the default one through its concrete type (no virtual call).
+  template <class F>
+  decltype(auto) with_dram(F&& f) {
+    return fr_fcfs_ ? f(*fr_fcfs_) : f(*dram_);
+  }
   // The DRAM's next decision (decision_ps_, decision_cycle_) after its queue changed.
   void note_decision();
   // Makes the DRAM's decisions due at decision_ps_: sets the fills they give, answers the slots
