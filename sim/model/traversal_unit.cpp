@@ -82,7 +82,7 @@ void TraversalUnit::run_batch() {
   for (const MemoryHorizon* m : horizons_) by_call = by_call && m->call_driven();
   if (by_call)
     for (const MemoryHorizon* m : horizons_) m->call_driven()->set_driven_by_call(true);
-  for (uint32_t i = 0; i < slots_.size(); ++i) start_ray(i, t0);
+  for (uint32_t i = 0; i < slots_.size(); ++i) start_ray<Decoder>(i, t0);
   if (vcd_) sample_vcd(t0);
   // The horizon, and the first cycle at or after it (kNever: none).
   uint64_t h = 0, h_cycle = 0;
@@ -153,17 +153,25 @@ void TraversalUnit::sample_vcd(uint64_t cycle) {
   vcd_->sample(at_ps, vcd_isect_, isect_tests_);
 }
 
+template <class Decoder>
 void TraversalUnit::start_ray(uint32_t slot, uint64_t t) {
   Slot& s = slots_[slot];
   uint32_t index;
   while (host_.next(index)) {
-    const RayRecord& r = host_.ray(index);
-    traversal_begin(s.st, image_, r.ray, r.any_hit());
+    // The ray's whole traversal, recorded now in one go: the steps it will take.
+    s.log.clear();
+    s.hit = s.log.record<Decoder>(image_, host_.ray(index), [&](const TraversalState& st) {
+      max_stack_ = std::max(max_stack_, st.sp);
+      if (st.sp > static_cast<int>(p_.stack_depth)) ++stack_overflows_;
+    });
     ++rays_;
-    if (s.st.done) {  // misses the scene's bounds: no step at all
-      host_.complete(index, s.st.hit);
+    const std::span<const uint64_t> words = s.log.ray(0);
+    if (words.empty()) {  // misses the scene's bounds: no step at all
+      host_.complete(index, s.hit);
       continue;
     }
+    s.next = words.data();
+    s.end = s.next + words.size();
     s.active = true;
     s.ray = index;
     ++active_;
@@ -173,13 +181,14 @@ void TraversalUnit::start_ray(uint32_t slot, uint64_t t) {
   s.active = false;
 }
 
+template <class Decoder>
 void TraversalUnit::finish_ray(uint32_t slot, uint64_t t) {
   Slot& s = slots_[slot];
-  host_.complete(s.ray, s.st.hit);
+  host_.complete(s.ray, s.hit);
   end_cycle_ = std::max(end_cycle_, t);
   s.active = false;
   --active_;
-  start_ray(slot, t);
+  start_ray<Decoder>(slot, t);
 }
 
 void TraversalUnit::schedule_step(uint32_t slot, uint64_t t) { book_step(slot, t); }
@@ -273,21 +282,27 @@ void TraversalUnit::data_ready(uint32_t slot, uint64_t ready) {
 template <class Decoder>
 void TraversalUnit::process(Slot& s, uint32_t index, uint64_t t) {
   if (s.phase == Phase::kStep) [[likely]] {
-    s.fetches.clear();
-    s.kind = traversal_step<Decoder>(s.st, image_, s.fetches);
-    if (s.kind == StepKind::kDone) {  // not reached: finished rays leave after their leaf
-      finish_ray(index, t);
+    if (s.next == s.end) {  // nothing left after an interior step: the ray ends
+      finish_ray<Decoder>(index, t);
       return;
+    }
+    // The step's fetches: its node's, and for a leaf its list's and triangles'.
+    s.fetches.clear();
+    const RayStepLog::Fetch node = RayStepLog::next(s.next);
+    s.fetches.fetch(Stream::kNode, node.addr, node.bytes);
+    if (node.kind == RayStepLog::Kind::kLeaf) {
+      s.kind = StepKind::kLeaf;
+      while (s.next != s.end && !RayStepLog::is_node(*s.next)) {
+        const RayStepLog::Fetch f = RayStepLog::next(s.next);
+        s.fetches.fetch(f.stream(), f.addr, f.bytes);
+      }
+    } else {
+      s.kind = StepKind::kInterior;
     }
     ++steps_;
     // The step pipeline takes one step a cycle (the calendar's bookings).
     if (t == last_step_cycle_) [[unlikely]] two_steps(t);
     last_step_cycle_ = t;
-    // The ray's next node is read at its next step, after the other rays' events in flight:
-    // bring it into the host's cache meanwhile (no effect on the simulation).
-    __builtin_prefetch(image_.bytes.data() + s.st.node);
-    max_stack_ = std::max(max_stack_, s.st.sp);
-    if (s.st.sp > static_cast<int>(p_.stack_depth)) ++stack_overflows_;
     s.phase = Phase::kNodeWait;
     issue_node(index, t);
     return;
@@ -319,8 +334,8 @@ void TraversalUnit::process(Slot& s, uint32_t index, uint64_t t) {
       const size_t tests = s.fetches.size() - first_triangle;
       const uint64_t end = lanes_.book(tests, t);
       isect_tests_ += tests;
-      if (s.st.done)
-        finish_ray(index, end);
+      if (s.next == s.end)
+        finish_ray<Decoder>(index, end);
       else
         schedule_step(index, end);
       return;

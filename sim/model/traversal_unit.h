@@ -1,14 +1,17 @@
 // The traversal unit: a pool of rays in flight (like the T&I Engine's ray accumulation unit),
 // each advanced by the shared traversal_step(), with the time its fetches and tests take.
+// A ray's steps do not depend on their timing, so a ray's traversal is recorded whole when it
+// starts (RayStepLog: one ray in one go, which the host runs much faster than steps interleaved
+// with 31 other rays') and its steps are then taken from the record.
 //
-// Per ray, one step: the traversal pipeline (one step issued per cycle) runs traversal_step(),
-// which decides the step and records its fetches; the node fetch goes to the node L1 at once;
-// when the node is there the step takes step_cycles more; an interior step then issues the next
-// step; a leaf reads its primitive list (if it has one, after step_cycles), then all its
-// triangles at once (each line of each triangle one request), then tests them in the
-// intersection pipeline (lanes, each accepting a test every interval_cycles, a result latency
-// cycles later). A ray waiting for memory holds only its slot; the others go on. A finished ray
-// frees its slot for the next ray of the batch at the same cycle.
+// Per ray, one step: the traversal pipeline (one step issued per cycle) takes the ray's next
+// recorded step (its node fetch; a leaf's list and triangle fetches); the node fetch goes to the
+// node L1 at once; when the node is there the step takes step_cycles more; an interior step
+// then issues the next step; a leaf reads its primitive list (if it has one, after
+// step_cycles), then all its triangles at once (each line of each triangle one request), then
+// tests them in the intersection pipeline (lanes, each accepting a test every interval_cycles,
+// a result latency cycles later). A ray waiting for memory holds only its slot; the others go
+// on. A finished ray frees its slot for the next ray of the batch at the same cycle.
 //
 // Simulation: one SC_THREAD runs an event queue of (time, ray) in time order, temporally
 // decoupled: it processes events without yielding until the next one is at or after the memory
@@ -43,6 +46,7 @@
 #include "model/host_interface.h"
 #include "model/isect_lanes.h"
 #include "model/unit_params.h"
+#include "traversal/ray_step_log.h"
 #include "traversal/fetch_recorder.h"
 #include "traversal/traversal.h"
 
@@ -99,8 +103,7 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
     kStep, kBook, kNodeWait, kLeafBody, kListWait, kTriangles, kTriWait, kIsect
   };
   using Fetch = RecordedFetch;
-  // The fields every event touches first, in one cache line; the traversal state (its stack
-  // is a kilobyte) after them.
+  // The fields every event touches first, in one cache line; the ray's record after them.
   struct UnitPayload;
   struct alignas(64) Slot {
     bool active = false;
@@ -112,7 +115,12 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
     uint64_t ready = 0;          // latest data cycle among them
     UnitPayload* node_payload = nullptr;  // its own in node_payloads_ (no deque lookup)
     FetchList fetches;           // of the current step, in issue order
-    TraversalState st;
+    // The ray's steps, recorded when it starts (its traversal depends on nothing the timing
+    // does), the next one's first word, the end, and its hit.
+    const uint64_t* next = nullptr;
+    const uint64_t* end = nullptr;
+    Hit hit;
+    RayStepLog log;
   };
 
   void run();
@@ -121,7 +129,9 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
   // Times inside the unit are cycles of its clock; picoseconds only at the sockets.
   template <class Decoder>
   [[gnu::always_inline]] inline void process(Slot& s, uint32_t index, uint64_t cycle);
+  template <class Decoder>
   void start_ray(uint32_t slot, uint64_t cycle);
+  template <class Decoder>
   void finish_ray(uint32_t slot, uint64_t cycle);
   // Books the step pipeline from `cycle` on and schedules the slot's next step there.
   // schedule_step: a call; book_step: inline (an arrival's, in the hot loop).

@@ -54,7 +54,7 @@
 #include "mem/fast_divider.h"
 #include "model/cycle_params.h"
 #include "model/isect_lanes.h"
-#include "tier/ray_step_log.h"
+#include "traversal/ray_step_log.h"
 #include "tier/slot_event_tree.h"
 #include "tier/slot_event_wheel.h"
 

@@ -1,7 +1,7 @@
 // RayStepLog: a recorded ray gives back the traversal's hit and, step by step, its fetches and
 // whether each step was a leaf, as traversal_step() reports them; fetches too large or too far
 // for one word come back from the three-word form exactly.
-#include "tier/ray_step_log.h"
+#include "traversal/ray_step_log.h"
 
 #include <gtest/gtest.h>
 
@@ -16,6 +16,7 @@
 #include "layout/dfl_layout.h"
 #include "layout/node_view.h"
 #include "test_geometry.h"
+#include "tracer/ray_batch.h"
 #include "traversal/fetch_recorder.h"
 
 namespace rtusim {

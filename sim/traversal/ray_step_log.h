@@ -1,8 +1,10 @@
-// The traversals of a run of rays as the timed interleaved mode times them: per ray its steps in
-// order, each its node fetch and, for a leaf, its list fetch and triangle fetches (one triangle
-// test each). A ray's traversal depends neither on the caches nor on the other rays in flight,
-// so runs of rays are recorded on any thread and the timing model (TimedInterleaver) then goes
-// over the records on one thread, without traversing.
+// The traversals of a run of rays as a timing model takes them: per ray its steps in order, each
+// its node fetch and, for a leaf, its list fetch and triangle fetches (one triangle test each).
+// A ray's traversal depends neither on the caches nor on the other rays in flight, so it is
+// recorded whole, ahead of its timing: the timed interleaved mode (TimedInterleaver) records runs
+// of rays on any thread and times them on one; the cycle tier's traversal unit records each ray
+// when it starts (one ray's traversal in one go, not step by step among the other rays in
+// flight, where the host's branch predictors lose the pattern).
 // One 64-bit word a fetch: bits 0-1 its kind, bits 2-20 its bytes, bits 21-63 its address; a
 // fetch whose bytes or address do not fit is a word with every bytes bit set, then its address
 // and its bytes in two more words.
@@ -13,7 +15,6 @@
 #include <vector>
 
 #include "layout/memory_image.h"
-#include "tracer/ray_batch.h"
 #include "traversal/traversal.h"
 
 namespace rtusim {
@@ -39,9 +40,10 @@ class RayStepLog {
     rays_.clear();
   }
 
-  // Traverses `ray` through `image` and appends its steps; returns its hit.
-  template <class Decoder>
-  Hit record(const MemoryImage& image, const RayRecord& ray) {
+  // Traverses `ray` (a RayRecord: its ray, any_hit() and pixel) through `image` and appends
+  // its steps; returns its hit. `after_step` is called with the ray's state after each step.
+  template <class Decoder, class Record, class AfterStep = decltype([](const TraversalState&) {})>
+  Hit record(const MemoryImage& image, const Record& ray, AfterStep after_step = {}) {
     TraversalState s;
     traversal_begin(s, image, ray.ray, ray.any_hit());
     Sink sink{this};
@@ -49,6 +51,7 @@ class RayStepLog {
       const size_t node_word = words_.size();
       if (traversal_step<Decoder>(s, image, sink) == StepKind::kLeaf)
         words_[node_word] |= static_cast<uint64_t>(Kind::kLeaf);
+      after_step(s);
     }
     rays_.push_back({static_cast<uint32_t>(words_.size()), ray.pixel});
     return s.hit;
