@@ -45,9 +45,11 @@ TEST(RayStepLogTest, RecordsEveryStepsFetchesAndTheHit) {
     TraversalState s;
     traversal_begin(s, image, r.ray, r.any_hit());
     std::vector<Fetch> want;
+    std::vector<int> want_sp;  // the stack depth after each step
     while (!s.done) {
       FetchList step;
       const bool leaf = traversal_step<DflLayout>(s, image, step) == StepKind::kLeaf;
+      want_sp.push_back(s.sp);
       for (size_t k = 0; k < step.size(); ++k)
         want.emplace_back(int(step[k].stream), step[k].addr, step[k].bytes, k == 0 && leaf);
       leaves += leaf;
@@ -55,7 +57,10 @@ TEST(RayStepLogTest, RecordsEveryStepsFetchesAndTheHit) {
     }
     misses += want.empty();
     expected.push_back(want);
-    hits.push_back(log.record<DflLayout>(image, r));
+    std::vector<int> got_sp;  // record()'s after_step sees each step's state
+    hits.push_back(
+        log.record<DflLayout>(image, r, [&](const TraversalState& st) { got_sp.push_back(st.sp); }));
+    EXPECT_EQ(got_sp, want_sp) << "ray " << i;
     EXPECT_EQ(hits.back().t, s.hit.t);
     EXPECT_EQ(hits.back().triangle, s.hit.triangle);
   }
