@@ -282,7 +282,7 @@ void TraversalUnit::data_ready(uint32_t slot, uint64_t ready) {
 template <class Decoder>
 void TraversalUnit::process(Slot& s, uint32_t index, uint64_t t) {
   if (s.phase == Phase::kStep) [[likely]] {
-    if (s.next == s.end) {  // nothing left after an interior step: the ray ends
+    if (s.next == s.end) {  // not reached: a ray's record ends with its last leaf
       finish_ray<Decoder>(index, t);
       return;
     }

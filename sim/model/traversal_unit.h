@@ -2,7 +2,7 @@
 // each advanced by the shared traversal_step(), with the time its fetches and tests take.
 // A ray's steps do not depend on their timing, so a ray's traversal is recorded whole when it
 // starts (RayStepLog: one ray in one go, which the host runs much faster than steps interleaved
-// with 31 other rays') and its steps are then taken from the record.
+// with the other rays' in flight) and its steps are then taken from the record.
 //
 // Per ray, one step: the traversal pipeline (one step issued per cycle) takes the ray's next
 // recorded step (its node fetch; a leaf's list and triangle fetches); the node fetch goes to the

@@ -1,5 +1,6 @@
-// A fetch sink for traversal_step() that records a step's fetches, for a model that sends them
-// on later at their own times (the traversal unit).
+// A step's fetches, in order, for a model that sends them on later at their own times: a fetch
+// sink for traversal_step() (batch traversal), or filled from a ray's record (the traversal
+// unit).
 #pragma once
 #include <algorithm>
 #include <cstddef>

@@ -1,10 +1,11 @@
-// The traversals of a run of rays as a timing model takes them: per ray its steps in order, each
-// its node fetch and, for a leaf, its list fetch and triangle fetches (one triangle test each).
-// A ray's traversal depends neither on the caches nor on the other rays in flight, so it is
-// recorded whole, ahead of its timing: the timed interleaved mode (TimedInterleaver) records runs
-// of rays on any thread and times them on one; the cycle tier's traversal unit records each ray
-// when it starts (one ray's traversal in one go, not step by step among the other rays in
-// flight, where the host's branch predictors lose the pattern).
+// The traversals of a run of rays as a model of rays in flight takes them: per ray its steps in
+// order, each its node fetch and, for a leaf, its list fetch and triangle fetches (one triangle
+// test each). A ray's traversal depends neither on the caches nor on the other rays in flight,
+// so it is recorded whole, ahead of the model: the timed interleaved mode (TimedInterleaver)
+// records runs of rays on any thread and times them on one; the cycle tier's traversal unit and
+// the functional tier's round-robin mode record each ray when it starts (one ray's traversal in
+// one go, not step by step among the other rays in flight, where the host's branch predictors
+// lose the pattern).
 // One 64-bit word a fetch: bits 0-1 its kind, bits 2-20 its bytes, bits 21-63 its address; a
 // fetch whose bytes or address do not fit is a word with every bytes bit set, then its address
 // and its bytes in two more words.
