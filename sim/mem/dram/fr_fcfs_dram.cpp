@@ -46,9 +46,11 @@ void FrFcfsDram::enqueue(const DramRequest& r) {
   (before == kNil ? b.head : c.pool[before].next) = e;
   (q.next == kNil ? b.tail : c.pool[q.next].prev) = e;
   c.queued[loc.bank / 64] |= uint64_t{1} << (loc.bank % 64);
-  // The bank's oldest request and first request for the open row.
+  // The bank's oldest request and first request for the open row (a request placed last comes
+  // after any).
   if (before == kNil) b.start_ps = std::max(r.arrival_ps, b.ready_ps);
-  if (loc.row == b.open_row && (b.hit == kNil || older(q, c.pool[b.hit]))) {
+  if (loc.row == b.open_row &&
+      (b.hit == kNil || (q.next != kNil && older(q, c.pool[b.hit])))) {
     b.hit = e;
     b.hit_arrival_ps = r.arrival_ps;
   }
