@@ -45,16 +45,19 @@ void FrFcfsDram::enqueue(const DramRequest& r) {
   q.next = before == kNil ? b.head : c.pool[before].next;
   (before == kNil ? b.head : c.pool[before].next) = e;
   (q.next == kNil ? b.tail : c.pool[q.next].prev) = e;
-  c.queued[loc.bank / 64] |= uint64_t{1} << (loc.bank % 64);
-  // The bank's oldest request and first request for the open row (a request placed last comes
-  // after any).
-  if (before == kNil) b.start_ps = std::max(r.arrival_ps, b.ready_ps);
+  // The bank's oldest request: the next decision is never later than its start (a later request
+  // starts no earlier).
+  if (before == kNil) {
+    c.queued[loc.bank / 64] |= uint64_t{1} << (loc.bank % 64);
+    b.start_ps = std::max(r.arrival_ps, b.ready_ps);
+    next_decision_ps_ = std::min(next_decision_ps_, b.start_ps);
+  }
+  // Its first request for the open row (a request placed last comes after any).
   if (loc.row == b.open_row &&
       (b.hit == kNil || (q.next != kNil && older(q, c.pool[b.hit])))) {
     b.hit = e;
     b.hit_arrival_ps = r.arrival_ps;
   }
-  next_decision_ps_ = std::min(next_decision_ps_, std::max(r.arrival_ps, b.ready_ps));
 }
 
 void FrFcfsDram::advance(uint64_t now_ps, std::vector<DramCompletion>& out) {
@@ -70,16 +73,20 @@ void FrFcfsDram::advance(uint64_t now_ps, std::vector<DramCompletion>& out) {
     const size_t words = c.ready.size();
     uint64_t later = kNever;
     uint32_t ready_banks = 0;
+    size_t last_ready = 0;  // with one ready bank, that bank
     for (size_t w = 0; w < words; ++w) {
       uint64_t bits = 0;
       for (uint64_t left = c.queued[w]; left; left &= left - 1) {
         const int bit = std::countr_zero(left);
-        const uint64_t at = banks[w * 64 + static_cast<size_t>(bit)].start_ps;
-        bits |= uint64_t{at <= now_ps} << bit;
-        later = std::min(later, at > now_ps ? at : kNever);
+        const size_t k = w * 64 + static_cast<size_t>(bit);
+        const uint64_t at = banks[k].start_ps;
+        const bool can_start = at <= now_ps;
+        bits |= uint64_t{can_start} << bit;
+        last_ready = can_start ? k : last_ready;
+        ready_banks += can_start;
+        later = std::min(later, can_start ? kNever : at);
       }
       ready[w] = bits;
-      ready_banks += static_cast<uint32_t>(std::popcount(bits));
     }
     while (ready_banks) {
       // FR-FCFS over the requests that can start now: row hits first, then age. Equal arrival
@@ -87,12 +94,9 @@ void FrFcfsDram::advance(uint64_t now_ps, std::vector<DramCompletion>& out) {
       // artefact of the simulation, not of the hardware) does not matter. A ready bank's best
       // row hit is its first request for the open row, if it has arrived; its oldest is its
       // queue's head.
-      size_t k = 0;
+      size_t k = last_ready;
       uint32_t best;
       if (ready_banks == 1) {
-        size_t w = 0;
-        while (!ready[w]) ++w;
-        k = w * 64 + static_cast<size_t>(std::countr_zero(ready[w]));
         best = banks[k].hit_arrival_ps <= now_ps ? banks[k].hit : banks[k].head;
       } else {
         uint32_t hit = kNil, oldest = kNil;
@@ -137,9 +141,14 @@ void FrFcfsDram::advance(uint64_t now_ps, std::vector<DramCompletion>& out) {
         b.start_ps = std::max(pool[b.head].req.arrival_ps, b.ready_ps);
       }
       if (b.start_ps > now_ps) {
-        ready[k / 64] &= ~(uint64_t{1} << (k % 64));
-        --ready_banks;
         later = std::min(later, b.start_ps);
+        if (--ready_banks == 0) break;
+        ready[k / 64] &= ~(uint64_t{1} << (k % 64));
+        if (ready_banks == 1) {  // the one left
+          size_t w = 0;
+          while (!ready[w]) ++w;
+          last_ready = w * 64 + static_cast<size_t>(std::countr_zero(ready[w]));
+        }
       }
     }
     next_decision = std::min(next_decision, later);
