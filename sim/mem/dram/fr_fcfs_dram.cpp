@@ -17,103 +17,141 @@ FrFcfsDram::FrFcfsDram(const DramParams& p)
   channels_.resize(p.channels);
   for (Channel& c : channels_) {
     c.banks.resize(p.banks);
-    c.head.assign(p.banks, kNil);
-    c.tail.assign(p.banks, kNil);
     c.queued.assign((p.banks + 63) / 64, 0);
+    c.ready.assign((p.banks + 63) / 64, 0);
   }
 }
 
 void FrFcfsDram::enqueue(const DramRequest& r) {
   const Location loc = locate(r.addr);
   Channel& c = channels_[loc.channel];
-  uint32_t e;
-  if (c.free.empty()) {
+  uint32_t e = c.free;
+  if (e == kNil) {
     e = static_cast<uint32_t>(c.pool.size());
     c.pool.emplace_back();
   } else {
-    e = c.free.back();
-    c.free.pop_back();
+    c.free = c.pool[e].next;
   }
   Queued& q = c.pool[e];
   q.req = r;
-  q.loc = loc;
+  q.row = loc.row;
   q.seq = seq_++;
   // In its bank's age order; requests mostly come in arrival order, so the place is found from
   // the back.
-  uint32_t& head = c.head[loc.bank];
-  uint32_t& tail = c.tail[loc.bank];
-  uint32_t before = tail;  // q goes after it (kNil: first)
+  Bank& b = c.banks[loc.bank];
+  uint32_t before = b.tail;  // q goes after it (kNil: first)
   while (before != kNil && older(q, c.pool[before])) before = c.pool[before].prev;
   q.prev = before;
-  q.next = before == kNil ? head : c.pool[before].next;
-  (before == kNil ? head : c.pool[before].next) = e;
-  (q.next == kNil ? tail : c.pool[q.next].prev) = e;
-  c.queued[loc.bank / 64] |= uint64_t{1} << (loc.bank % 64);
-  next_decision_ps_ = std::min(next_decision_ps_, eligible_at(c, q));
+  q.next = before == kNil ? b.head : c.pool[before].next;
+  (before == kNil ? b.head : c.pool[before].next) = e;
+  (q.next == kNil ? b.tail : c.pool[q.next].prev) = e;
+  // The bank's oldest request: the next decision is never later than its start (a later request
+  // starts no earlier).
+  if (before == kNil) {
+    c.queued[loc.bank / 64] |= uint64_t{1} << (loc.bank % 64);
+    b.start_ps = std::max(r.arrival_ps, b.ready_ps);
+    next_decision_ps_ = std::min(next_decision_ps_, b.start_ps);
+  }
+  // Its first request for the open row (a request placed last comes after any).
+  if (loc.row == b.open_row &&
+      (b.hit == kNil || (q.next != kNil && older(q, c.pool[b.hit])))) {
+    b.hit = e;
+    b.hit_arrival_ps = r.arrival_ps;
+  }
 }
 
 void FrFcfsDram::advance(uint64_t now_ps, std::vector<DramCompletion>& out) {
   if (next_decision_ps_ > now_ps) return;
-  uint64_t next_decision = kNever;  // found by each channel's last scan
+  uint64_t next_decision = kNever;
   for (Channel& c : channels_) {
-    for (;;) {
+    // The banks that can start a request now: ready, their oldest request arrived. The others
+    // keep their start times while this channel decides (only a served bank's changes), so the
+    // earliest of them and of the served banks' next starts is the channel's next decision.
+    Queued* const pool = c.pool.data();
+    Bank* const banks = c.banks.data();
+    uint64_t* const ready = c.ready.data();
+    const size_t words = c.ready.size();
+    uint64_t later = kNever;
+    uint32_t ready_banks = 0;
+    size_t last_ready = 0;  // with one ready bank, that bank
+    for (size_t w = 0; w < words; ++w) {
+      uint64_t bits = 0;
+      for (uint64_t left = c.queued[w]; left; left &= left - 1) {
+        const int bit = std::countr_zero(left);
+        const size_t k = w * 64 + static_cast<size_t>(bit);
+        const uint64_t at = banks[k].start_ps;
+        const bool can_start = at <= now_ps;
+        bits |= uint64_t{can_start} << bit;
+        last_ready = can_start ? k : last_ready;
+        ready_banks += can_start;
+        later = std::min(later, can_start ? kNever : at);
+      }
+      ready[w] = bits;
+    }
+    while (ready_banks) {
       // FR-FCFS over the requests that can start now: row hits first, then age. Equal arrival
       // times go by address, so the order in which initiators happened to enqueue them (an
-      // artefact of the simulation, not of the hardware) does not matter. A bank's requests can
-      // start now if it is ready and they have arrived: in its queue (age order) the first of
-      // them with the open row is its best row hit, else the first is its oldest; the choice is
-      // the oldest such row hit over the banks, else the oldest such request. With none, the
-      // channel's next decision is the earliest time one can start: per bank, its oldest
-      // request's (the bank's ready time is the same for all of them).
-      Queued* const pool = c.pool.data();
-      constexpr uint32_t n = kNil;
-      uint32_t hit = n, oldest = n;
-      uint64_t later = kNever;
-      uint32_t ready_banks = 0;
-      for (size_t w = 0; w < c.queued.size(); ++w) {
-        for (uint64_t left = c.queued[w]; left; left &= left - 1) {  // the banks with requests
-          const size_t k = w * 64 + static_cast<size_t>(std::countr_zero(left));
-          uint32_t i = c.head[k];
-          const Bank& b = c.banks[k];
-          const uint64_t at = std::max(pool[i].req.arrival_ps, b.ready_ps);
-          if (at > now_ps) {
-            later = std::min(later, at);
-            continue;
-          }
-          ++ready_banks;
-          if (oldest == n || older(pool[i], pool[oldest])) oldest = i;
-          for (; i != n && pool[i].req.arrival_ps <= now_ps; i = pool[i].next) {
-            if (pool[i].loc.row != b.open_row) continue;
-            if (hit == n || older(pool[i], pool[hit])) hit = i;
-            break;
+      // artefact of the simulation, not of the hardware) does not matter. A ready bank's best
+      // row hit is its first request for the open row, if it has arrived; its oldest is its
+      // queue's head.
+      size_t k = last_ready;
+      uint32_t best;
+      if (ready_banks == 1) {
+        best = banks[k].hit_arrival_ps <= now_ps ? banks[k].hit : banks[k].head;
+      } else {
+        uint32_t hit = kNil, oldest = kNil;
+        size_t hit_bank = 0, oldest_bank = 0;
+        for (size_t w = 0; w < words; ++w) {
+          for (uint64_t left = ready[w]; left; left &= left - 1) {
+            const size_t j = w * 64 + static_cast<size_t>(std::countr_zero(left));
+            const Bank& b = banks[j];
+            if (b.hit_arrival_ps <= now_ps && (hit == kNil || older(pool[b.hit], pool[hit]))) {
+              hit = b.hit;
+              hit_bank = j;
+            }
+            if (oldest == kNil || older(pool[b.head], pool[oldest])) {
+              oldest = b.head;
+              oldest_bank = j;
+            }
           }
         }
+        best = hit != kNil ? hit : oldest;
+        k = hit != kNil ? hit_bank : oldest_bank;
       }
-      const uint32_t best = hit != n ? hit : oldest;
-      if (best == n) {  // the channel's next decision: every request left waits
-        next_decision = std::min(next_decision, later);
-        break;
-      }
-      const Queued q = pool[best];
-      (q.prev == kNil ? c.head[q.loc.bank] : pool[q.prev].next) = q.next;
-      if (c.head[q.loc.bank] == kNil)
-        c.queued[q.loc.bank / 64] &= ~(uint64_t{1} << (q.loc.bank % 64));
-      (q.next == kNil ? c.tail[q.loc.bank] : pool[q.next].prev) = q.prev;
-      c.free.push_back(best);
+      Bank& b = banks[k];
+      Queued& q = pool[best];
+      const uint32_t next = q.next;
+      (q.prev == kNil ? b.head : pool[q.prev].next) = next;
+      (next == kNil ? b.tail : pool[next].prev) = q.prev;
+      q.next = c.free;
+      c.free = best;
 
-      const uint64_t done = serve(c, c.banks[q.loc.bank], q.loc.row, q.req, eligible_at(c, q));
+      const uint64_t done = serve(c, b, q.row, q.req, std::max(q.req.arrival_ps, b.ready_ps));
       out.push_back({q.req.id, done});
-      // With no other bank ready, a rescan would only find this bank's next time to start: if
-      // it is later, the channel's next decision is known without it.
-      if (ready_banks == 1) {
-        const uint32_t h = c.head[q.loc.bank];
-        const uint64_t at = h == kNil ? kNever : eligible_at(c, pool[h]);
-        if (at > now_ps) {
-          next_decision = std::min(next_decision, std::min(later, at));
-          break;
+      // The bank's first request for its (new) open row comes after q: those before it were
+      // for other rows (q was the first for the old open row, or the head).
+      uint32_t h = next;
+      while (h != kNil && pool[h].row != q.row) h = pool[h].next;
+      b.hit = h;
+      b.hit_arrival_ps = h == kNil ? kNever : pool[h].req.arrival_ps;
+      if (b.head == kNil) {
+        c.queued[k / 64] &= ~(uint64_t{1} << (k % 64));
+        b.start_ps = kNever;
+      } else {
+        b.start_ps = std::max(pool[b.head].req.arrival_ps, b.ready_ps);
+      }
+      if (b.start_ps > now_ps) {
+        later = std::min(later, b.start_ps);
+        if (--ready_banks == 0) break;
+        ready[k / 64] &= ~(uint64_t{1} << (k % 64));
+        if (ready_banks == 1) {  // the one left
+          size_t w = 0;
+          while (!ready[w]) ++w;
+          last_ready = w * 64 + static_cast<size_t>(std::countr_zero(ready[w]));
         }
       }
     }
+    next_decision = std::min(next_decision, later);
   }
   next_decision_ps_ = next_decision;
 }

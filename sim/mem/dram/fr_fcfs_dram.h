@@ -48,34 +48,36 @@ class FrFcfsDram final : public DramBackend {
   static constexpr uint32_t kNil = ~uint32_t{0};
   struct Queued {
     DramRequest req;
-    Location loc;
+    uint64_t row;
     uint64_t seq;  // enqueue order: the last tie-break (after arrival time, then address)
-    uint32_t prev = kNil, next = kNil;  // the neighbours in its bank's queue (Channel::head)
+    uint32_t prev = kNil, next = kNil;  // the neighbours in its bank's queue (Bank::head)
   };
   struct Bank {
     uint64_t open_row = kNoRow;
     uint64_t ready_ps = 0;
+    // Its queue, oldest first (older()), a list threaded through Channel::pool from head to
+    // tail; `hit` is its first request for the open row (kNil: none).
+    uint32_t head = kNil, tail = kNil, hit = kNil;
+    uint64_t start_ps = kNever;        // when its oldest request can start (kNever: queue empty)
+    uint64_t hit_arrival_ps = kNever;  // `hit`'s arrival (kNever: none)
   };
-  // A request's age: (arrival, address, seq), a total order (seq is unique).
+  // A request's age: (arrival, address, seq), a total order (seq is unique). Compared without
+  // branches, (arrival, address) as one 128-bit number: the outcome is not predictable.
   static bool older(const Queued& a, const Queued& b) {
-    if (a.req.arrival_ps != b.req.arrival_ps) return a.req.arrival_ps < b.req.arrival_ps;
-    if (a.req.addr != b.req.addr) return a.req.addr < b.req.addr;
-    return a.seq < b.seq;
+    __extension__ typedef unsigned __int128 Key;
+    const Key ka = Key{a.req.arrival_ps} << 64 | a.req.addr;
+    const Key kb = Key{b.req.arrival_ps} << 64 | b.req.addr;
+    return (ka < kb) | ((ka == kb) & (a.seq < b.seq));
   }
   struct Channel {
-    // Per bank, its queue, oldest first (older()), a list threaded through `pool` from
-    // head[bank] to tail[bank] (a pool entry in none is in `free`).
     std::vector<Queued> pool;
-    std::vector<uint32_t> free;
-    std::vector<uint32_t> head, tail;
-    std::vector<uint64_t> queued;  // bit k % 64 of word k / 64: bank k's queue is not empty
+    uint32_t free = kNil;  // the pool entries in no bank's queue, a list through Queued::next
     std::vector<Bank> banks;
+    // Bit k % 64 of word k / 64: bank k's queue is not empty; bank k can start a request now
+    // (advance()'s scratch).
+    std::vector<uint64_t> queued, ready;
     uint64_t bus_free_ps = 0;
   };
-
-  uint64_t eligible_at(const Channel& c, const Queued& q) const {
-    return std::max(q.req.arrival_ps, c.banks[q.loc.bank].ready_ps);
-  }
 
   // Schedules `r` (row `row`) on bank `b` of `c` at `start`, the later of its arrival and the
   // bank's ready time: counts it, books the bank and the bus; returns its done_ps.
