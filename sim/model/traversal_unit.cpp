@@ -288,17 +288,9 @@ void TraversalUnit::process(Slot& s, uint32_t index, uint64_t t) {
     }
     // The step's fetches: its node's, and for a leaf its list's and triangles'.
     s.fetches.clear();
-    const RayStepLog::Fetch node = RayStepLog::next(s.next);
-    s.fetches.fetch(Stream::kNode, node.addr, node.bytes);
-    if (node.kind == RayStepLog::Kind::kLeaf) {
-      s.kind = StepKind::kLeaf;
-      while (s.next != s.end && !RayStepLog::is_node(*s.next)) {
-        const RayStepLog::Fetch f = RayStepLog::next(s.next);
-        s.fetches.fetch(f.stream(), f.addr, f.bytes);
-      }
-    } else {
-      s.kind = StepKind::kInterior;
-    }
+    s.kind = RayStepLog::take_step(s.next, s.end, s.fetches) == RayStepLog::Kind::kLeaf
+                 ? StepKind::kLeaf
+                 : StepKind::kInterior;
     ++steps_;
     // The step pipeline takes one step a cycle (the calendar's bookings).
     if (t == last_step_cycle_) [[unlikely]] two_steps(t);

@@ -72,12 +72,7 @@ void FunctionalBackend::trace_interleaved(std::span<const RayRecord> rays, std::
           // One turn: the ray's next step (none for a ray that misses the scene's bounds).
           if (slot.next != slot.end) {
             const uint64_t before = caches_.dram_bytes_total();
-            const RayStepLog::Fetch node = RayStepLog::next(slot.next);
-            sink.fetch(Stream::kNode, node.addr, node.bytes);
-            while (slot.next != slot.end && !RayStepLog::is_node(*slot.next)) {
-              const RayStepLog::Fetch f = RayStepLog::next(slot.next);
-              sink.fetch(f.stream(), f.addr, f.bytes);
-            }
+            RayStepLog::take_step(slot.next, slot.end, sink);
             slot.dram_bytes += caches_.dram_bytes_total() - before;
             if (slot.next != slot.end) continue;
           }

@@ -68,6 +68,22 @@ class RayStepLog {
 
   static Kind kind(uint64_t word) { return static_cast<Kind>(word & 3); }
   static bool is_node(uint64_t word) { return (word & 3) <= uint64_t(Kind::kLeaf); }
+  // Sends the step whose node fetch `p` points at to `sink` (fetch(stream, addr, bytes)): its
+  // node fetch, then a leaf's list and triangle fetches; `p` moves past it (`end`: the ray's
+  // end). Returns the node's kind.
+  template <class Sink>
+  [[gnu::always_inline]] static Kind take_step(const uint64_t*& p, const uint64_t* end,
+                                               Sink& sink) {
+    const Fetch node = next(p);
+    sink.fetch(Stream::kNode, node.addr, node.bytes);
+    if (node.kind == Kind::kLeaf)
+      while (p != end && !is_node(*p)) {
+        const Fetch f = next(p);
+        sink.fetch(f.stream(), f.addr, f.bytes);
+      }
+    return node.kind;
+  }
+
   // The fetch whose first word `p` points at; `p` moves past it.
   static Fetch next(const uint64_t*& p) {
     const uint64_t w = *p++;
