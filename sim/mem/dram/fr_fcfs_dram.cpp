@@ -49,7 +49,7 @@ void FrFcfsDram::enqueue(const DramRequest& r) {
   // starts no earlier).
   if (before == kNil) {
     c.queued[loc.bank / 64] |= uint64_t{1} << (loc.bank % 64);
-    b.start_ps = std::max(r.arrival_ps, b.ready_ps);
+    b.start_ps = start_at(r, b);
     next_decision_ps_ = std::min(next_decision_ps_, b.start_ps);
   }
   // Its first request for the open row (a request placed last comes after any).
@@ -126,7 +126,7 @@ void FrFcfsDram::advance(uint64_t now_ps, std::vector<DramCompletion>& out) {
       q.next = c.free;
       c.free = best;
 
-      const uint64_t done = serve(c, b, q.row, q.req, std::max(q.req.arrival_ps, b.ready_ps));
+      const uint64_t done = serve(c, b, q.row, q.req);
       out.push_back({q.req.id, done});
       // The bank's first request for its (new) open row comes after q: those before it were
       // for other rows (q was the first for the old open row, or the head).
@@ -138,7 +138,7 @@ void FrFcfsDram::advance(uint64_t now_ps, std::vector<DramCompletion>& out) {
         c.queued[k / 64] &= ~(uint64_t{1} << (k % 64));
         b.start_ps = kNever;
       } else {
-        b.start_ps = std::max(pool[b.head].req.arrival_ps, b.ready_ps);
+        b.start_ps = start_at(pool[b.head].req, b);
       }
       if (b.start_ps > now_ps) {
         later = std::min(later, b.start_ps);

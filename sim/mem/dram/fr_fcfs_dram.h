@@ -79,9 +79,13 @@ class FrFcfsDram final : public DramBackend {
     uint64_t bus_free_ps = 0;
   };
 
-  // Schedules `r` (row `row`) on bank `b` of `c` at `start`, the later of its arrival and the
-  // bank's ready time: counts it, books the bank and the bus; returns its done_ps.
-  uint64_t serve(Channel& c, Bank& b, uint64_t row, const DramRequest& r, uint64_t start);
+  // When `r` can start on bank `b`: the later of its arrival and the bank's ready time.
+  static uint64_t start_at(const DramRequest& r, const Bank& b) {
+    return std::max(r.arrival_ps, b.ready_ps);
+  }
+  // Schedules `r` (row `row`) on bank `b` of `c` at its start_at(): counts it, books the bank
+  // and the bus; returns its done_ps.
+  uint64_t serve(Channel& c, Bank& b, uint64_t row, const DramRequest& r);
 
   DramParams p_;
   uint64_t tRCD_, tRP_, tCL_, tBurst_;
@@ -104,9 +108,8 @@ inline FrFcfsDram::Location FrFcfsDram::locate(uint64_t addr) const {
   return l;
 }
 
-inline uint64_t FrFcfsDram::serve(Channel& c, Bank& b, uint64_t row, const DramRequest& r,
-                                  uint64_t start) {
-  uint64_t column = start;
+inline uint64_t FrFcfsDram::serve(Channel& c, Bank& b, uint64_t row, const DramRequest& r) {
+  uint64_t column = start_at(r, b);
   if (b.open_row == row) {
     ++row_hits_;
   } else if (b.open_row == kNoRow) {
