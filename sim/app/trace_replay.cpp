@@ -112,6 +112,13 @@ void replay_chunks(TraceReader& reader, Cache& c, const CacheParams& params,
     uint64_t top_offset = 0;
     for (const uint64_t a : addrs) top_offset = std::max(top_offset, a & line_mask);
     if (top_offset + h.node_bytes > params.line_bytes) {
+      // A node that would run past the top of the address space has no lines to read.
+      const uint64_t top = ~uint64_t{0} - (h.node_bytes - 1);
+      for (size_t i = 0; i < addrs.size(); ++i)
+        if (addrs[i] > top)
+          reader.fail("record " + std::to_string(out.fetches - addrs.size() + i) + ": a node of " +
+                      std::to_string(h.node_bytes) + " bytes at 0x" + hex64(addrs[i]) +
+                      " runs past the top of the 64-bit address space");
       for (const uint64_t a : addrs) c.access_range(a, h.node_bytes);
       last_line = ~uint64_t{0};
       continue;

@@ -468,6 +468,9 @@ void TraceReader::din_line(const char* q, const char* eol, std::vector<uint64_t>
            std::to_string(kMaxFetchBytes) + ")");
     skip_blanks();
     if (q != eol) fail(at() + "unexpected '" + printable(*q) + "' after the size");
+    if (a > ~uint64_t{0} - (size - 1))
+      fail(at() + "an access of " + std::to_string(size) + " bytes at 0x" + hex64(a) +
+           " runs past the top of the 64-bit address space");
     sizes.resize(addrs.size(), 0);
     sizes.push_back(static_cast<uint32_t>(size));
   }

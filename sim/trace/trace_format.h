@@ -165,9 +165,10 @@ class TraceReader {
   bool next(std::vector<uint64_t>& addrs, std::vector<uint32_t>& sizes, size_t max_records);
   // Every address, in order (reads the file again from the start; for tests and benchmarks).
   std::vector<uint64_t> decode() const;
+  // Throws InputError "FILE: what" (for what a reader of its records finds wrong in them).
+  [[noreturn]] void fail(const std::string& what) const;
 
  private:
-  [[noreturn]] void fail(const std::string& what) const;
   void parse_bin_header(uint64_t file_bytes);
   // Keeps the unread bytes and appends more from the file (bin: never past the payload).
   // Returns false when nothing was left to read.

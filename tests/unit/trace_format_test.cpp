@@ -153,6 +153,8 @@ TEST_F(TraceFormatTest, StreamingInChunksMatchesWholeDecode) {
   std::mt19937_64 rng(11);
   for (int i = 0; i < 300000; ++i) addrs.push_back(rng());  // ~10 bytes each: > 1 MiB payload
   for (const TraceFormat f : {TraceFormat::kBin, TraceFormat::kDin, TraceFormat::kDinSized}) {
+    if (f == TraceFormat::kDinSized)  // a sized access may not run past 2^64 (the writer's 8 bytes)
+      for (uint64_t& a : addrs) a = std::min(a, ~uint64_t{0} - 7);
     const fs::path p = write("s" + std::to_string(int(f)), f, addrs);
     for (const size_t chunk : {size_t{1}, size_t{7}, size_t{65536}, size_t{1} << 22}) {
       TraceReader r(p);
