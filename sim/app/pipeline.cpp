@@ -20,12 +20,12 @@ CameraDesc select_camera(const RunConfig& config, const Scene& scene) {
       if (c.name == config.scene.camera) return c;
     std::string known;
     for (const auto& c : scene.cameras) known += (known.empty() ? "" : ", ") + c.name;
-    throw InputError(config.origin + ": scene.camera: no camera node '" + config.scene.camera +
+    throw InputError(config.origins.at("scene.camera") + ": scene.camera: no camera node '" + config.scene.camera +
                      "' in " + scene.source + " (cameras: " + (known.empty() ? "none" : known) +
                      ")");
   }
   if (!scene.cameras.empty()) return scene.cameras.front();
-  throw InputError(config.origin + ": camera: " + scene.source +
+  throw InputError(config.origins.at("scene.path") + ": camera: " + scene.source +
                    " has no camera; set scene.camera or camera.eye/camera.target");
 }
 
@@ -36,13 +36,14 @@ Prepared prepare_run(const std::string& config_path, const std::vector<std::stri
   try {
     p.scene = load_scene(p.config.scene.resolved);
   } catch (const InputError& e) {
-    throw InputError(config_path + ": scene.path: " + e.what());
+    throw InputError(p.config.origins.at("scene.path") + ": scene.path: " + e.what());
   }
   p.scene_load_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   p.camera = select_camera(p.config, p.scene);
   if (const std::string why = camera_problem(p.camera); !why.empty())
-    throw InputError(config_path + ": " + (p.config.camera ? "camera" : "scene.camera") + ": " + why);
+    throw InputError(p.config.origins.at(p.config.camera ? "camera" : "scene.camera") + ": " +
+                     (p.config.camera ? "camera" : "scene.camera") + ": " + why);
   p.tree = build_sah_kd_tree(p.scene, p.config.kdtree);
   for (const auto& kind : p.config.layout.kinds) {
     const std::unique_ptr<Layout> layout = make_layout(kind);

@@ -15,7 +15,7 @@ int replay_command(const ReplayOptions& opts) {
   ConfigReader r = ConfigReader::from_string("", "replay --set");
   for (const auto& o : opts.overrides) r.apply_override(o);
   const CacheParams params = read_cache_params(r, "l1");
-  r.reject_unknown_keys();
+  r.reject_unknown_keys("replay takes l1.size, l1.assoc, l1.line, l1.policy and l1.seed");
 
   TraceReader reader(opts.trace);
   const TraceHeader& h = reader.header();

@@ -78,18 +78,21 @@ RunConfig load_run_config(const std::string& path, const std::vector<std::string
   c.scene.path = kScenePath.read(r);
   c.scene.resolved = resolve_scene_path(c.scene.path, r.base_dir());
   c.scene.camera = kSceneCamera.read(r);
+  for (const char* key : {"scene.path", "scene.camera", "layout.kind"}) c.origins[key] = r.where(key);
+  c.origins["camera"] = r.has("camera.eye") ? r.where("camera.eye") : r.where("camera.target");
 
   // [camera]: an explicit pinhole camera (all of eye, target; up and vfov default)
   const auto eye = kEye.read(r), target = kTarget.read(r), up = kUp.read(r);
   const bool any_camera = eye || target || up || r.has(kVfov.key());
   if (any_camera) {
     const double vfov = kVfov.read(r);
-    if (!eye || !target) {
-      throw InputError(path + ": camera: camera.eye and camera.target are both required when "
-                       "any camera.* key is given");
-    }
+    if (!eye || !target)
+      r.fail(KeyError({"camera.eye", "camera.target", "camera.up", "camera.vfov"},
+                      "camera.eye and camera.target are both required when any camera.* key "
+                      "is given"));
     if (!c.scene.camera.empty())
-      throw InputError(path + ": camera: give scene.camera or camera.*, not both");
+      r.fail(KeyError({"scene.camera", "camera.eye", "camera.target", "camera.up", "camera.vfov"},
+                      "give scene.camera or camera.*, not both"));
     c.camera = CameraDesc{"config", *eye, *target, up.value_or(glm::vec3(0, 1, 0)),
                           static_cast<float>(vfov)};
   }

@@ -2,6 +2,7 @@
 // TOML file + `--set` overrides -> declared keys (config/param.h) -> RunConfig, read and
 // validated once. The tiers' params are derived from it (fetch_caches(), cycle()).
 #pragma once
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -51,6 +52,9 @@ struct ReportParams {
 
 struct RunConfig {
   std::string origin;  // the config file
+  // Where the values that later checks name came from (ConfigReader::where): "scene.path",
+  // "scene.camera", "layout.kind", and "camera" (camera.eye, else camera.target).
+  std::map<std::string, std::string> origins;
   SceneParams scene;
   std::optional<CameraDesc> camera;  // camera.eye/target/up/vfov, when given
   ImageParams image;

@@ -21,7 +21,7 @@ int trace_command(const TraceOptions& opts) {
     if (c.layout.kinds.size() != 1) {
       std::string kinds;
       for (const auto& k : c.layout.kinds) kinds += (kinds.empty() ? "" : ", ") + k;
-      throw InputError(opts.config + ": layout.kind: trace takes one layout, got " +
+      throw InputError(c.origins.at("layout.kind") + ": layout.kind: trace takes one layout, got " +
                        std::to_string(c.layout.kinds.size()) + " (" + kinds +
                        "); pick one with --set layout.kind=NAME");
     }

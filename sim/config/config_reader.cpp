@@ -64,8 +64,11 @@ ConfigReader ConfigReader::from_string(const std::string& text, const std::strin
 
 ConfigReader ConfigReader::from_file(const std::string& path) {
   std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw InputError(path + ": is a directory, not a config file");
   if (!std::filesystem::is_regular_file(path, ec))
-    throw InputError(path + ": config file not found");
+    throw InputError(path + (std::filesystem::exists(path, ec) ? ": not a regular file"
+                                                               : ": config file not found"));
   const std::optional<std::string> text = read_text_file(path);
   if (!text) throw InputError(path + ": cannot read config file");
   ConfigReader r = from_string(*text, path);
@@ -73,7 +76,7 @@ ConfigReader ConfigReader::from_file(const std::string& path) {
   return r;
 }
 
-void ConfigReader::apply_override(const std::string& assignment) {
+std::string apply_assignment(toml::table& root, const std::string& assignment) {
   const auto eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0)
     throw InputError("--set " + assignment + ": expected KEY=VALUE");
@@ -82,7 +85,7 @@ void ConfigReader::apply_override(const std::string& assignment) {
   if (parts.empty() || std::any_of(parts.begin(), parts.end(), [](auto& p) { return p.empty(); }))
     throw InputError("--set " + assignment + ": malformed key");
   // Walk/create the tables of the dotted key.
-  toml::table* t = &root_;
+  toml::table* t = &root;
   for (size_t i = 0; i + 1 < parts.size(); ++i) {
     toml::node* n = t->get(parts[i]);
     if (!n) n = &t->insert_or_assign(parts[i], toml::table{}).first->second;
@@ -97,7 +100,11 @@ void ConfigReader::apply_override(const std::string& assignment) {
   } catch (const toml::parse_error&) {
     t->insert_or_assign(parts.back(), text);
   }
-  override_keys_[key] = "--set " + assignment;
+  return key;
+}
+
+void ConfigReader::apply_override(const std::string& assignment) {
+  override_keys_[apply_assignment(root_, assignment)] = "--set " + assignment;
 }
 
 const toml::node* ConfigReader::find(const std::string& key) const {
@@ -115,12 +122,14 @@ const toml::node* ConfigReader::find(const std::string& key) const {
 
 bool ConfigReader::has(const std::string& key) const { return find(key) != nullptr; }
 
+std::string ConfigReader::where(const std::string& key) const {
+  if (auto it = override_keys_.find(key); it != override_keys_.end()) return it->second;
+  if (const toml::node* n = find(key)) return origin_ + ":" + std::to_string(n->source().begin.line);
+  return origin_;
+}
+
 void ConfigReader::fail(const std::string& key, const std::string& what) const {
-  if (auto it = override_keys_.find(key); it != override_keys_.end())
-    throw InputError(it->second + ": " + key + ": " + what);
-  std::string where = origin_;
-  if (const toml::node* n = find(key)) where += ":" + std::to_string(n->source().begin.line);
-  throw InputError(where + ": " + key + ": " + what);
+  throw InputError(where(key) + ": " + key + ": " + what);
 }
 
 void ConfigReader::fail(const KeyError& e) const {
@@ -128,8 +137,7 @@ void ConfigReader::fail(const KeyError& e) const {
     if (auto it = override_keys_.find(k); it != override_keys_.end())
       throw InputError(it->second + ": " + e.what());
   for (const std::string& k : e.keys)
-    if (const toml::node* n = find(k))
-      throw InputError(origin_ + ":" + std::to_string(n->source().begin.line) + ": " + e.what());
+    if (find(k)) throw InputError(where(k) + ": " + e.what());
   throw InputError(origin_ + ": " + e.what());
 }
 
@@ -256,11 +264,15 @@ std::optional<glm::vec3> ConfigReader::get_vec3(const std::string& key) {
   return v;
 }
 
-void ConfigReader::reject_unknown_keys() const {
+void ConfigReader::reject_unknown_keys(const std::string& known) const {
   std::vector<std::pair<std::string, const toml::node*>> leaves;
   collect_leaves(root_, "", leaves);
-  for (const auto& [name, node] : leaves)
-    if (!used_.count(name)) fail(name, "unknown key (rtusim keys lists them)");
+  for (const auto& [name, node] : leaves) {
+    if (used_.count(name)) continue;
+    if (name.starts_with("sweep."))
+      fail(name, "a [sweep] table belongs in a sweep spec: run this file with `rtusim sweep`");
+    fail(name, "unknown key (" + known + ")");
+  }
 }
 
 }  // namespace rtusim

@@ -20,6 +20,10 @@ namespace rtusim {
 void collect_leaves(const toml::table& t, const std::string& prefix,
                     std::vector<std::pair<std::string, const toml::node*>>& out);
 
+// Sets dotted KEY in `root` from one `KEY=VALUE` (VALUE a TOML value, else a bare string),
+// making the tables on the way; returns KEY. Throws InputError naming the `--set`.
+std::string apply_assignment(toml::table& root, const std::string& assignment);
+
 class ConfigReader {
  public:
   // Parses `path` (throws InputError on a missing file or a TOML syntax error).
@@ -47,13 +51,17 @@ class ConfigReader {
                                            const std::vector<std::string>& allowed = {});
   std::optional<glm::vec3> get_vec3(const std::string& key);
   bool has(const std::string& key) const;
+  // Where `key`'s value came from, for an error about it: its `--set` assignment, else
+  // file:line, else the file (a default).
+  std::string where(const std::string& key) const;
 
   // Rethrows a params validate() error with where its value came from: the first involved key
   // set by `--set` (named with its assignment), else the first one in the file (file:line).
   [[noreturn]] void fail(const KeyError& e) const;
 
-  // Throws InputError for the first key (in file order) that no getter asked for.
-  void reject_unknown_keys() const;
+  // Throws InputError for the first key (in file order) that no getter asked for; `known`
+  // says where the keys that are known are listed.
+  void reject_unknown_keys(const std::string& known = "rtusim keys lists them") const;
 
   // The effective config: every key read, with the value used (defaults included).
   const toml::table& effective() const { return effective_; }

@@ -103,7 +103,7 @@ for case in count_2p62:'accessor 0 .*overrun' count_2p40:'accessor 0 .*overrun' 
             stride_small:'byteStride 4' deep_json:'nested deeper than' broken:'cannot parse glTF'; do
   name=${case%%:*}; pattern=${case#*:}
   scene_cfg "$name.gltf"
-  expect_bad "scene_$name" "$name.gltf.toml: scene.path: .*$name.gltf: .*$pattern" run "$in/$name.gltf.toml"
+  expect_bad "scene_$name" "$name.gltf.toml:2: scene.path: .*$name.gltf: .*$pattern" run "$in/$name.gltf.toml"
 done
 for case in version1:'unsupported .glb version 1' version3:'unsupported .glb version 3' \
             truncated:'truncated .glb' badmagic:'not a .glb \(bad magic\)'; do
@@ -124,14 +124,16 @@ for case in bad_version:'unsupported bin trace version 7' node_zero:'node size 0
             trailing:'2 bytes of trailing data' checksum:'checksum mismatch' \
             bad_varint:'bad varint in record 0' count_mismatch:'records cannot take|beyond the header' \
             payload_short:'truncated: payload has' truncated:'truncated' magic_prefix:'truncated' \
-            empty:'empty file' garbage:'bad magic'; do
+            empty:'empty file' garbage:'bad magic' \
+            top_wrap:'record 2: a node of 8 bytes at 0xfffffffffffffffc runs past the top'; do
   name=${case%%:*}; pattern=${case#*:}
   expect_bad "trace_bin_$name" "$name.bin: (bad header: )?$pattern" "$rtusim" replay "$in/$name.bin"
 done
 for case in bad_label:'line 2: expected' nul:'line 2: .\\x00. is not a hex digit' \
             long_addr:'line 1: expected a hex address' size_zero:'line 1: access size 0' \
             size_huge:'line 1: access size 2147483647' after_size:'line 1: expected a hex size|line 1: unexpected' \
-            long_line:'line 1: longer than' no_address:'line 2: expected'; do
+            long_line:'line 1: longer than' no_address:'line 2: expected' \
+            top_wrap:'line 2: an access of 8 bytes at 0xfffffffffffffffc runs past the top'; do
   name=${case%%:*}; pattern=${case#*:}
   expect_bad "trace_din_$name" "$name.din: $pattern" "$rtusim" replay "$in/$name.din"
 done
