@@ -54,14 +54,22 @@ def main():
     from distributed import Client, as_completed  # only the Dask path needs it
 
     tty = sys.stderr.isatty()
-    with Client(a.scheduler) as client:
+    try:
+        client = Client(a.scheduler, timeout="10s")
+    except (OSError, TimeoutError, ValueError) as e:
+        reason = " ".join(str(e).split()) or type(e).__name__
+        print(f"rtusim: --scheduler {a.scheduler}: cannot connect ({reason})", file=sys.stderr)
+        return 2
+    with client:
         futures = [client.submit(run_job, command, j, pure=False, key=f"rtusim-sweep-job-{j}-{os.getpid()}")
                    for j in jobs]
         done = 0
         for future in as_completed(futures):
             job, text, status, last = future.result()
             if text is None:
-                print(f"rtusim: sweep job {job} failed on a Dask worker (exit {status}): {last}",
+                # Bad input: the job's own line names the spec and the job.
+                print(last if status == 2 and last.startswith("rtusim: ") else
+                      f"rtusim: sweep job {job} failed on a Dask worker (exit {status}): {last}",
                       file=sys.stderr)
                 client.cancel(futures)
                 return 2 if status == 2 else 1

@@ -3,6 +3,7 @@
 // by scripts/sweep_plot.py when Python with matplotlib is at hand. The hidden `--group K` runs
 // one job of the plan (what the local runner and the Dask workers start).
 #include <chrono>
+#include <filesystem>
 #include <cstdio>
 #include <cstdlib>
 #include <thread>
@@ -21,12 +22,34 @@ struct SweepOptions {
   SweepRunOptions run;
   std::string out;
   long group = -1;
-  bool plots = true;
+  bool no_plots = false;
 };
 
 SweepOptions& options() {
   static SweepOptions o;
   return o;
+}
+
+// --scheduler: [SCHEME://]HOST:PORT, checked before the sweep makes anything.
+void check_scheduler_address(const std::string& address) {
+  const size_t scheme = address.find("://");
+  const std::string host_port = scheme == std::string::npos ? address : address.substr(scheme + 3);
+  const size_t colon = host_port.rfind(':');
+  const std::string port = colon == std::string::npos ? "" : host_port.substr(colon + 1);
+  const bool digits = !port.empty() && port.size() <= 5 &&
+                      port.find_first_not_of("0123456789") == std::string::npos;
+  if (colon == 0 || !digits || std::stoul(port) == 0 || std::stoul(port) > 65535)
+    throw InputError("--scheduler " + address + ": expected tcp://HOST:PORT");
+}
+
+// The sweep's directory; one that cannot be made is bad input (the --out given).
+SweepDir open_sweep_dir(const std::string& out, const SweepPlan& plan) {
+  try {
+    return SweepDir(out, plan);
+  } catch (const std::filesystem::filesystem_error& e) {
+    throw InputError("--out " + out + ": cannot make the sweep's directory (" +
+                     e.code().message() + ")");
+  }
 }
 
 }  // namespace
@@ -41,34 +64,64 @@ CLI::App* add_sweep_subcommand(CLI::App& app) {
   cmd->add_option("--threads", o.run.threads, "Jobs at once (default: all cores)")
       ->check(CLI::Range(1u, 4096u));
   cmd->add_option("--scheduler", o.run.scheduler, "Dask scheduler address (tcp://HOST:PORT)");
-  cmd->add_flag("!--no-plots", o.plots, "Do not draw the plots");
+  cmd->add_flag("--no-plots", o.no_plots, "Do not draw the plots");
   cmd->add_option("--group", o.group, "Run one job of the plan (used by the runners)")
       ->group("");
   return cmd;
 }
 
 int sweep_command() {
-  const SweepOptions& o = options();
+  namespace fs = std::filesystem;
+  SweepOptions o = options();
   const auto t0 = std::chrono::steady_clock::now();
   const SweepPlan plan = plan_sweep(o.run.spec, o.run.sets);
   if (o.group >= 0 && static_cast<size_t>(o.group) >= plan.jobs.size())
     throw InputError("--group " + std::to_string(o.group) + ": the sweep has " +
                      std::to_string(plan.jobs.size()) + " jobs");
-  const SweepDir dir(o.out, plan);
   if (o.group >= 0) {
+    // One job, started by a runner: its bad input named by the spec and the job's keys.
+    const SweepDir dir(o.out, plan);
     const unsigned threads = o.run.threads ? o.run.threads : std::thread::hardware_concurrency();
-    dir.write_job(o.group, run_sweep_job(plan, o.group, dir.base_config(), std::max(1u, threads)));
+    nlohmann::json rows;
+    try {
+      rows = run_sweep_job(plan, o.group, dir.base_config(), std::max(1u, threads));
+    } catch (const InputError& e) {
+      throw InputError(job_error(plan, o.group, dir.base_config(), e.what()));
+    }
+    dir.write_job(o.group, rows);
     return 0;
   }
-  const std::vector<size_t> pending = pending_sweep_jobs(plan, dir);
-  const size_t skipped = plan.jobs.size() - pending.size();
-  if (const int rc = run_sweep_jobs(plan, dir, o.run, pending); rc != 0) return rc;
-  dir.write_results(plan);
-  std::printf("rtusim sweep %s -> %s/results.csv: %zu points in %zu jobs (%zu done before), "
-              "%.1f s\n",
-              o.run.spec.c_str(), o.out.c_str(), plan.points.size(), plan.jobs.size(), skipped,
-              std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-  if (o.plots) draw_sweep_plots(o.out);
+  if (!o.run.scheduler.empty()) check_scheduler_address(o.run.scheduler);
+  // The jobs read the spec from wherever they start (a Dask worker's own directory).
+  o.run.spec = fs::absolute(o.run.spec).lexically_normal().string();
+  // A directory this sweep makes is removed again if bad input stops it: nothing is left of a
+  // sweep that could not run. One that held the sweep before keeps what it held.
+  std::error_code ec;
+  const bool made_here = !fs::exists(o.out, ec);
+  const auto discard = [&] {
+    if (made_here) fs::remove_all(o.out, ec);
+  };
+  int rc = 0;
+  try {
+    const SweepDir dir = open_sweep_dir(o.out, plan);
+    const std::vector<size_t> pending = pending_sweep_jobs(plan, dir);
+    const size_t skipped = plan.jobs.size() - pending.size();
+    rc = run_sweep_jobs(plan, dir, o.run, pending);
+    if (rc == 0) {
+      dir.write_results(plan);
+      std::printf("rtusim sweep %s -> %s/results.csv: %zu points in %zu jobs (%zu done before), "
+                  "%.1f s\n",
+                  options().run.spec.c_str(), o.out.c_str(), plan.points.size(), plan.jobs.size(),
+                  skipped,
+                  std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    }
+  } catch (const InputError&) {
+    discard();
+    throw;
+  }
+  if (rc == 2) discard();
+  if (rc != 0) return rc;
+  if (!o.no_plots) draw_sweep_plots(o.out);
   return 0;
 }
 

@@ -63,6 +63,9 @@ std::string json_cell(const nlohmann::json& v) {
 
 SweepDir::SweepDir(fs::path dir, const SweepPlan& plan) : dir_(std::move(dir)) {
   const fs::path id_file = dir_ / "sweep.json";
+  std::error_code ec;
+  if (fs::exists(dir_, ec) && !fs::is_directory(dir_, ec))
+    throw InputError(dir_.string() + ": exists and is not a directory");
   const nlohmann::json id = identity(plan);
   if (fs::exists(id_file)) {
     nlohmann::json held;

@@ -77,6 +77,14 @@ std::string absolute_scene_path(const std::string& path, const fs::path& spec_di
   return fs::absolute(spec_dir / path).lexically_normal().string();
 }
 
+// "key = cell, ..." of the keys a point or entry sets.
+std::string describe(const std::vector<std::string>& keys, const std::vector<std::string>& cells) {
+  std::string s;
+  for (size_t i = 0; i < keys.size(); ++i)
+    if (!cells[i].empty()) s += (s.empty() ? "" : ", ") + keys[i] + " = " + cells[i];
+  return s;
+}
+
 // The [sweep] table as dimensions.
 std::vector<Dim> read_dims(const toml::table& sweep, const std::string& spec,
                            const fs::path& spec_dir) {
@@ -141,6 +149,27 @@ std::vector<Dim> read_dims(const toml::table& sweep, const std::string& spec,
     }
     dims.push_back(std::move(d));
   }
+  // Each key in one dimension, each value (or group entry) once: a point is one combination.
+  const auto table = [](const Dim& d) {
+    return d.name.rfind("group.", 0) == 0 ? "[sweep." + d.name + "]" : std::string("[sweep]");
+  };
+  const auto label = [&](const Dim& d) {
+    return d.name.rfind("group.", 0) == 0 ? table(d) : "[sweep] " + d.name;
+  };
+  std::map<std::string, const Dim*> owner;
+  for (const Dim& d : dims) {
+    for (const auto& k : d.keys)
+      if (const auto [it, fresh] = owner.try_emplace(k, &d); !fresh)
+        throw InputError(spec + ": " + table(d) + " " + k + ": also swept by " + table(*it->second));
+    for (size_t e = 0; e < d.values.size(); ++e)
+      for (size_t f = 0; f < e; ++f)
+        if (d.values[e] == d.values[f])
+          throw InputError(spec + ": " + label(d) + ": " +
+                           (d.keys.size() == 1 ? "value " + d.cells[e][0]
+                                               : "entry " + std::to_string(e + 1) + " (" +
+                                                     describe(d.keys, d.cells[e]) + ")") +
+                           " is listed twice");
+  }
   return dims;
 }
 
@@ -175,13 +204,6 @@ std::string inner_message(const std::string& what, const std::string& base_path)
   return what.substr(i);
 }
 
-std::string describe(const std::vector<std::string>& keys, const std::vector<std::string>& cells) {
-  std::string s;
-  for (size_t i = 0; i < keys.size(); ++i)
-    if (!cells[i].empty()) s += (s.empty() ? "" : ", ") + keys[i] + " = " + cells[i];
-  return s;
-}
-
 }  // namespace
 
 SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string>& sets) {
@@ -209,16 +231,25 @@ SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string
                      "[sweep] table of keys with lists of values)");
   const fs::path spec_dir = fs::absolute(fs::path(spec_path)).parent_path();
   std::vector<Dim> dims = read_dims(*sweep, spec_path, spec_dir);
+  for (const std::string& set : sets) {
+    const std::string key = set.substr(0, set.find('='));
+    for (const Dim& d : dims)
+      if (std::count(d.keys.begin(), d.keys.end(), key))
+        throw InputError("--set " + set + ": " + key + " is swept by " + spec_path +
+                         " ([sweep" + (d.name.rfind("group.", 0) == 0 ? "." + d.name : "") +
+                         "]); each point's value would replace it");
+  }
 
-  // The base config: the spec without [sweep].
+  // The base config: the spec without [sweep], with the command's --set.
   toml::table base = root;
   base.erase("sweep");
+  for (const std::string& set : sets) apply_assignment(base, set);
   if (auto* path = base["scene"]["path"].as_string())
     *path = absolute_scene_path(path->get(), spec_dir);
   std::ostringstream os;
   os << base;
-  plan.base_toml = "# The base config of the sweep " + spec_path + " (its [sweep] table removed)\n" +
-                   os.str() + "\n";
+  plan.base_toml = "# The base config of the sweep " + spec_path +
+                   " (its [sweep] table removed, the --set applied)\n" + os.str() + "\n";
   const TempFile base_file(plan.base_toml);
 
   // Loads one point's config; errors name the spec and what the point sets.
@@ -316,6 +347,21 @@ SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string
     plan.points.push_back(std::move(pt));
   }
   return plan;
+}
+
+std::string job_error(const SweepPlan& plan, size_t job, const std::string& base_path,
+                      const std::string& what) {
+  const SweepJob& j = plan.jobs.at(job);
+  const SweepPoint& pt = plan.points.at(j.points.front());
+  std::vector<std::string> keys, cells;
+  for (size_t i = 0; i < plan.columns.size(); ++i)
+    if (j.timed || !is_cache_key(plan.columns[i])) {
+      keys.push_back(plan.columns[i]);
+      cells.push_back(pt.cells[i]);
+    }
+  const std::string set = describe(keys, cells);
+  return plan.spec_path + ": [sweep] job " + std::to_string(job) +
+         (set.empty() ? "" : " (" + set + ")") + ": " + inner_message(what, base_path);
 }
 
 }  // namespace rtusim

@@ -40,7 +40,7 @@ struct SweepPlan {
   std::string spec_path;
   std::string spec_text;
   std::vector<std::string> sets;     // the command's --set KEY=VALUE
-  std::string base_toml;             // the spec without [sweep]; relative scene paths absolute
+  std::string base_toml;             // the spec without [sweep], the --set applied; scene path absolute
   std::vector<std::string> columns;  // the swept keys, in dimension order
   std::vector<SweepPoint> points;    // product order: the last dimension varies fastest
   std::vector<SweepJob> jobs;        // in order of their first point
@@ -48,6 +48,12 @@ struct SweepPlan {
 
 // Reads, expands and validates the spec. Throws InputError naming the spec, key and value.
 SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string>& sets);
+
+// The message of bad input that job `job` met when it ran (`what`, about its base config
+// `base_path` or the --set that applied a point's key), naming the spec and the keys the job's
+// points share instead.
+std::string job_error(const SweepPlan& plan, size_t job, const std::string& base_path,
+                      const std::string& what);
 
 
 }  // namespace rtusim

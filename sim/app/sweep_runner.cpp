@@ -101,10 +101,16 @@ int exit_status(int wait_status) {
   return WIFEXITED(wait_status) ? WEXITSTATUS(wait_status) : 128 + WTERMSIG(wait_status);
 }
 
-// The job's failure, reported once: 2 stays 2 (bad input), anything else is 1.
+// The job's failure, reported once: 2 stays 2 (bad input: the job's own line, which names the
+// spec and the job), anything else is 1 (with its log).
 int report_failure(size_t job, int status, const SweepDir& dir) {
+  const std::string line = last_line(dir.log_file(job));
+  if (status == 2 && line.rfind("rtusim: ", 0) == 0) {
+    std::fprintf(stderr, "%s\n", line.c_str());
+    return 2;
+  }
   std::fprintf(stderr, "rtusim: sweep job %zu failed (exit %d): %s (log: %s)\n", job, status,
-               last_line(dir.log_file(job)).c_str(), dir.log_file(job).c_str());
+               line.c_str(), dir.log_file(job).c_str());
   return status == 2 ? 2 : 1;
 }
 
@@ -168,9 +174,10 @@ int run_dask(const SweepPlan& plan, const SweepDir& dir, const SweepRunOptions& 
   int st = 0;
   ::waitpid(spawn(argv, ""), &st, 0);
   const int status = exit_status(st);
+  if (status == 2) return 2;  // bad input: the driver said what, in one line
   if (status != 0) {
     std::fprintf(stderr, "rtusim: sweep: the Dask driver failed (exit %d)\n", status);
-    return status == 2 ? 2 : 1;
+    return 1;
   }
   for (const size_t j : pending)
     if (!dir.job_done(j)) return report_failure(j, 1, dir);

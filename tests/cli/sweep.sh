@@ -116,7 +116,32 @@ spec_with scene $'[[sweep.group.s]]\nscene.path = "nowhere.gltf"'
 expect_bad missing_scene 'scene.toml: \[sweep.group.s\] scene.path = nowhere.gltf: scene.path: .*nowhere.gltf not found' "$tmp/scene.toml" "$tmp/none"
 printf '[image]\nwidth = 16\n' > "$tmp/nosweep.toml"
 expect_bad no_sweep_table 'nosweep.toml: \[sweep\]: missing' "$tmp/nosweep.toml" "$tmp/none"
+spec_with twice $'l1.size = [1024]\n[[sweep.group.a]]\nl1.size = 2048'
+expect_bad key_twice 'twice.toml: \[sweep\] l1.size: also swept by \[sweep.group.a\]' "$tmp/twice.toml" "$tmp/none"
+spec_with dupvalue 'l1.size = [1024, 1024]'
+expect_bad value_twice 'dupvalue.toml: \[sweep\] l1.size: value 1024 is listed twice' "$tmp/dupvalue.toml" "$tmp/none"
+spec_with setswept 'l1.size = [1024, 2048]'
+"$rtusim" sweep "$tmp/setswept.toml" --set l1.size=4096 --out "$tmp/none" --no-plots > /dev/null 2> "$tmp/stderr"
+[ $? -eq 2 ] && [ "$(wc -l < "$tmp/stderr")" -eq 1 ] && grep -q -- '--set l1.size=4096: l1.size is swept by' "$tmp/stderr" \
+  && ok || { bad "set_swept_key: $(cat "$tmp/stderr")"; }
+expect_bad out_is_file 'results.csv: exists and is not a directory' "$tmp/setswept.toml" "$tmp/exact/results.csv"
+"$rtusim" sweep "$tmp/setswept.toml" --scheduler notanaddress --out "$tmp/none" --no-plots > /dev/null 2> "$tmp/stderr"
+[ $? -eq 2 ] && grep -q -- '--scheduler notanaddress: expected tcp://HOST:PORT' "$tmp/stderr" && ok || bad "bad_scheduler: $(cat "$tmp/stderr")"
+# Bad input found only when a job runs (a scene that does not parse): the spec and the job
+# named, and no directory left of a sweep that made it.
+printf '{ "asset": {"version": "2.0"}, "meshes": [ ' > "$tmp/broken.gltf"
+spec_with broken $'[[sweep.group.s]]\nscene.path = "broken.gltf"'
+expect_bad job_bad_scene 'broken.toml: \[sweep\] job 0 \(scene.path = broken.gltf\): scene.path: .*broken.gltf' "$tmp/broken.toml" "$tmp/none"
 [ -e "$tmp/none" ] && bad "a bad spec left $tmp/none" || ok
+# DIR/base.toml carries the sweep's --set: a point is `rtusim run DIR/base.toml --set KEY=VALUE`.
+"$rtusim" sweep "$tmp/setswept.toml" --set image.width=24 --out "$tmp/withset" --no-plots > /dev/null || bad "sweep with --set failed"
+"$rtusim" run "$tmp/withset/base.toml" --set l1.size=2048 --out "$tmp/withset_run" > /dev/null || bad "base.toml run failed"
+"$py" - "$tmp/withset" "$tmp/withset_run" <<'PY' && ok || bad "base.toml lacks the --set"
+import csv, json, sys
+row = [r for r in csv.DictReader(open(sys.argv[1] + "/results.csv")) if r["l1.size"] == "2048"][0]
+run = json.load(open(sys.argv[2] + "/stats.json"))
+assert int(row["dram.bytes.nodes"]) == run["dram.bytes.nodes"] and int(row["rays.primary"]) == 24 * 16, (row["dram.bytes.nodes"], run["dram.bytes.nodes"])
+PY
 
 echo "sweep: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]
