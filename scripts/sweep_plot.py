@@ -8,6 +8,7 @@ From DIR/results.csv and DIR/sweep.toml (which columns were swept):
   layout_comparison.png           node DRAM bytes per ray of each layout at the default cache
                                   (8 KB, 4-way, 64 B, LRU), per combination of the other keys
 """
+import argparse
 import csv
 import re
 import sys
@@ -67,7 +68,14 @@ def size_label(b):
 
 
 def main():
-    out = Path(sys.argv[1] if len(sys.argv) > 1 else ".")
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("dir", type=Path, help="a finished sweep's directory (its results.csv, sweep.toml)")
+    out = ap.parse_args().dir
+    for name in ("results.csv", "sweep.toml"):
+        if not (out / name).is_file():
+            print(f"sweep_plot.py: {out / name}: not found (DIR must be a finished `rtusim sweep` "
+                  f"directory)", file=sys.stderr)
+            return 2
     with open(out / "results.csv", newline="") as f:
         rows = list(csv.DictReader(f))
     header = list(rows[0].keys()) if rows else []

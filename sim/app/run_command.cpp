@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <sstream>
 
 #include "app/commands.h"
@@ -66,12 +67,24 @@ int run_command(const RunOptions& opts) {
   const std::string out_dir = opts.out.empty() ? "out" : opts.out;
   const Prepared p = prepare_run(opts.config, opts.overrides);
   OutputFiles outputs(out_dir);  // created only once the inputs are known to be good
+  // An earlier run's pictures that this run does not draw go: the directory shows this run.
+  outputs.replace_earlier([](const std::string& n) {
+    return n.ends_with(".png") &&
+           (n == "image.png" || n.starts_with("heatmap_") || n.starts_with("diff_"));
+  });
   SimulationResult r = simulate(p);
 
   // Outputs: effective config, image, heatmaps, then stats (run.seconds last).
   std::ostringstream cfg;
+  // A relative scene path made absolute, so the file runs again from any directory.
+  toml::table effective = p.config.effective;
+  const std::string& scene = p.config.scene.path;
+  if (auto* path = effective["scene"]["path"].as_string();
+      path && !scene.starts_with("builtin:") && !scene.starts_with("$") &&
+      !std::filesystem::path(scene).is_absolute())
+    *path = std::filesystem::absolute(p.config.scene.resolved).lexically_normal().string();
   cfg << "# Effective config of " << p.config.origin << " (defaults and --set applied)\n"
-      << p.config.effective << "\n";
+      << effective << "\n";
   outputs.write_text("config.toml", cfg.str());
   const int w = r.frame.width, h = r.frame.height;
   if (p.config.image.write_png)

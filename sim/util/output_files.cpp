@@ -181,6 +181,7 @@ void OutputFiles::commit() {
       if (holds_cwd) break;
       const std::string n = e.path().filename().string();
       if (std::find(names_.begin(), names_.end(), n) != names_.end()) continue;
+      if (earlier_output_ && earlier_output_(n) && !e.is_directory(ec)) continue;  // dropped
       if (e.is_directory(ec) && !e.is_symlink(ec)) {
         subdirs.push_back(n);
       } else if (::link(e.path().c_str(), (staging_ / n).c_str()) != 0) {
@@ -196,6 +197,13 @@ void OutputFiles::commit() {
         if (::rename((staging_ / n).c_str(), (dir_ / n).c_str()) != 0)
           throw InputError((dir_ / n).string() + ": cannot write (" + errno_text() + ")");
       fs::remove_all(staging_, ec);
+      if (earlier_output_)
+        for (const fs::directory_entry& e : fs::directory_iterator(dir_, ec)) {
+          const std::string n = e.path().filename().string();
+          if (earlier_output_(n) && !e.is_directory(ec) &&
+              std::find(names_.begin(), names_.end(), n) == names_.end())
+            fs::remove(e.path(), ec);
+        }
     } else if (!existed) {
       if (::rename(staging_.c_str(), dir_.c_str()) != 0)
         throw InputError(dir_.string() + ": cannot create the output directory (" + errno_text() + ")");

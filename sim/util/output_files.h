@@ -5,6 +5,7 @@
 // directory. Write failures (full disk, unwritable directory) are InputErrors (exit 2).
 #pragma once
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -28,9 +29,14 @@ class OutputFiles {
   // Path to write `name` (a plain file name) to, inside the staging directory.
   std::filesystem::path stage(const std::string& name);
   void write_text(const std::string& name, const std::string& text);
-  // Puts every staged file into the output directory at once. Files of an existing output
-  // directory that this run does not write stay; a directory in the way of an output file is
-  // an InputError before anything moves.
+  // Files of an existing output directory that `earlier_output` names (an earlier run's
+  // outputs of the kinds this one may write) go at commit() when this run does not write them.
+  void replace_earlier(std::function<bool(const std::string&)> earlier_output) {
+    earlier_output_ = std::move(earlier_output);
+  }
+  // Puts every staged file into the output directory at once. Other files of an existing output
+  // directory stay; a directory in the way of an output file is an InputError before anything
+  // moves.
   void commit();
   const std::filesystem::path& dir() const { return dir_; }
   const std::filesystem::path& staging() const { return staging_; }
@@ -38,6 +44,7 @@ class OutputFiles {
  private:
   std::filesystem::path dir_, staging_;
   std::vector<std::string> names_;
+  std::function<bool(const std::string&)> earlier_output_;
   int slot_ = -1;  // cleanup registration
   bool committed_ = false;
 };
