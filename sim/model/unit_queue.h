@@ -1,10 +1,9 @@
 // The traversal unit's one queue of what happens next: arrivals (a ray whose data is all there)
 // and events (a ray's next pipeline action), at most one of either per ray slot, each at a cycle
-// no earlier than the last one taken. It gives them in the order of two EventWheels taken
-// together (the unit's order before they were merged, which its figures keep): by cycle; within
-// a cycle the arrivals first, in slot order, then the events, in push order; within each kind an
-// entry kept in the far heap (pushed kWheelCycles or more ahead of the last one of its kind
-// taken) before the wheel's, far ones by slot.
+// no earlier than the last one taken. It gives them by cycle; within a cycle the arrivals
+// first, in slot order (wherever each is kept), then the events, in push order (an event kept in
+// the far heap, pushed kWheelCycles or more ahead of the last event taken, was pushed before any
+// of its cycle in the wheel; far ones by slot).
 // One timing wheel of a bucket per cycle over the next kWheelCycles (per bucket a slot-sorted
 // list of arrivals and a FIFO list of events, threaded through the slots; one bitmap of
 // non-empty buckets), plus a heap per kind for the rare entry further ahead: one scan finds the
@@ -28,6 +27,7 @@ class UnitQueue {
   static constexpr uint64_t kWheelCycles = EventWheel::kWheelCycles;
   static constexpr uint32_t kNone = ~uint32_t{0};
   static constexpr uint32_t kSlotBits = EventWheel::kSlotBits;  // far: cycle << 20 | slot
+  static constexpr uint64_t kSlotMask = (uint64_t{1} << kSlotBits) - 1;
 
   explicit UnitQueue(uint32_t slots)
       : link_arrival_(slots, kNone), link_event_(slots, kNone),
@@ -97,9 +97,12 @@ class UnitQueue {
     const uint64_t b = c & (kWheelCycles - 1);
     Bucket& k = buckets_[b];
     uint32_t slot;
-    // A far entry of this cycle (rare): the far heaps' tops are checked.
-    if (far_next_ == c && !far_arrival_.empty() && (far_arrival_.top() >> kSlotBits) == c)
-        [[unlikely]] {
+    // A far entry of this cycle (rare): the far heaps' tops are checked. A far arrival goes
+    // first only if its slot is below the wheel's first arrival of the cycle: arrivals of a
+    // cycle are taken in slot order, however far ahead each was pushed.
+    if (far_next_ == c && !far_arrival_.empty() && (far_arrival_.top() >> kSlotBits) == c &&
+        (k.arrival_head == kNone || static_cast<uint32_t>(far_arrival_.top() & kSlotMask) <
+                                        k.arrival_head)) [[unlikely]] {
       slot = take_far(far_arrival_);
       arrival = true;
       now_arrival_ = c;
@@ -170,7 +173,7 @@ class UnitQueue {
     far_next_ = kEmpty;
     if (!far_arrival_.empty()) far_next_ = far_arrival_.top() >> kSlotBits;
     if (!far_event_.empty()) far_next_ = std::min(far_next_, far_event_.top() >> kSlotBits);
-    return static_cast<uint32_t>(key & ((uint64_t{1} << kSlotBits) - 1));
+    return static_cast<uint32_t>(key & kSlotMask);
   }
   // The cycle of the next entry, the wheel's or a far one (all ones: none).
   uint64_t find_next() const {

@@ -1,11 +1,14 @@
-// The traversal unit's merged queue gives its entries in the order of the two EventWheels it
-// replaced, taken together as the unit took them (arrivals of a cycle before its events; far
-// entries of each kind first), for random interleavings of pushes and pops.
+// The traversal unit's merged queue: by cycle; within a cycle the arrivals first, in slot order
+// however far ahead each was pushed, then the events in the order of the EventWheel the queue
+// replaced (far entries first, by slot, then push order), for random interleavings of pushes
+// and pops.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <random>
+#include <set>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 #include "model/event_wheel.h"
@@ -21,24 +24,27 @@ struct Taken {
   bool operator==(const Taken&) const = default;
 };
 
-// The two wheels as the unit's run loop took them: the earlier cycle, an arrival on a tie.
-Taken take(EventWheel& arrivals, EventWheel& events) {
-  const uint64_t a = arrivals.empty() ? ~uint64_t{0} : arrivals.top_cycle();
+// The reference: arrivals as (cycle, slot) in a set, events in an EventWheel; the earlier
+// cycle first, an arrival on a tie.
+Taken take(std::set<std::pair<uint64_t, uint32_t>>& arrivals, EventWheel& events) {
+  const uint64_t a = arrivals.empty() ? ~uint64_t{0} : arrivals.begin()->first;
   const uint64_t e = events.empty() ? ~uint64_t{0} : events.top_cycle();
-  uint64_t c = 0;
   if (a <= e) {
-    const uint32_t s = arrivals.pop(c);
+    const auto [c, s] = *arrivals.begin();
+    arrivals.erase(arrivals.begin());
     return {c, s, true};
   }
+  uint64_t c = 0;
   const uint32_t s = events.pop(c);
   return {c, s, false};
 }
 
-TEST(UnitQueueTest, TakesEntriesAsTwoWheelsTakenTogether) {
+TEST(UnitQueueTest, TakesArrivalsBySlotAndEventsAsTheirWheel) {
   constexpr uint32_t kSlots = 48;
   std::mt19937 rng(11);
   for (int round = 0; round < 40; ++round) {
-    EventWheel arrivals(kSlots, /*slot_order=*/true), events(kSlots);
+    std::set<std::pair<uint64_t, uint32_t>> arrivals;
+    EventWheel events(kSlots);
     UnitQueue queue(kSlots);
     std::vector<uint32_t> idle(kSlots);
     for (uint32_t i = 0; i < kSlots; ++i) idle[i] = i;
@@ -54,7 +60,7 @@ TEST(UnitQueueTest, TakesEntriesAsTwoWheelsTakenTogether) {
                                : r == 1 ? now + UnitQueue::kWheelCycles - 1 - rng() % 2
                                         : now + rng() % 4;
         if (rng() % 2) {
-          arrivals.push(cycle, slot);
+          arrivals.emplace(cycle, slot);
           queue.push_arrival(cycle, slot);
         } else {
           events.push(cycle, slot);
