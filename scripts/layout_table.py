@@ -62,9 +62,13 @@ def main():
     ap.add_argument("--reuse", action="store_true",
                     help="take the stats of runs already in --out (same settings) instead of rerunning")
     args = ap.parse_args()
-    for scene in set(args.scenes) | set(args.cycle):
+    if not args.scenes and not args.cycle:
+        ap.error("nothing to tabulate: give --scenes or --cycle")
+    for scene in args.scenes + args.cycle:
         if not (ROOT / "configs" / f"{scene}.toml").is_file():
             ap.error(f"--scenes/--cycle {scene}: no configs/{scene}.toml")
+    if not args.rtusim.is_file():
+        ap.error(f"--rtusim {args.rtusim}: not found (build first)")
     args.out.mkdir(parents=True, exist_ok=True)
 
     # Functional tier: node memory and node DRAM bytes per scene, layout and L1 size.

@@ -16,10 +16,7 @@ import tomllib
 from collections import defaultdict
 from pathlib import Path
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+plt = None  # matplotlib.pyplot, imported once the arguments are known to be good
 
 Y_KEY = "report.node_dram_bytes_per_ray"
 Y_LABEL = "node DRAM traffic (bytes per ray)"
@@ -76,6 +73,10 @@ def main():
             print(f"sweep_plot.py: {out / name}: not found (DIR must be a finished `rtusim sweep` "
                   f"directory)", file=sys.stderr)
             return 2
+    global plt
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
     with open(out / "results.csv", newline="") as f:
         rows = list(csv.DictReader(f))
     header = list(rows[0].keys()) if rows else []

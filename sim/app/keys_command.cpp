@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include <nlohmann/json.hpp>
+#include <toml++/toml.h>
 
 #include "app/commands.h"
 #include "config/param.h"
@@ -32,6 +33,29 @@ std::vector<const ParamInfo*> sorted_keys() {
   return keys;
 }
 
+// A TOML value as JSON (a key's default, kept as TOML text): null when there is none.
+nlohmann::ordered_json json_value(const toml::node& n) {
+  if (const auto* a = n.as_array()) {
+    nlohmann::ordered_json out = nlohmann::ordered_json::array();
+    for (const toml::node& e : *a) out.push_back(json_value(e));
+    return out;
+  }
+  if (const auto* v = n.as_string()) return v->get();
+  if (const auto* v = n.as_integer()) return v->get();
+  if (const auto* v = n.as_floating_point()) return v->get();
+  if (const auto* v = n.as_boolean()) return v->get();
+  return nullptr;
+}
+nlohmann::ordered_json json_default(const std::string& toml_text) {
+  if (toml_text.empty()) return nullptr;
+  try {
+    const toml::table t = toml::parse("v = " + toml_text);
+    return json_value(*t.get("v"));
+  } catch (const toml::parse_error&) {
+    return toml_text;
+  }
+}
+
 std::string markdown_cell(std::string s) {
   for (size_t i = 0; (i = s.find('|', i)) != std::string::npos; i += 2) s.replace(i, 1, "\\|");
   return s;
@@ -45,7 +69,7 @@ int keys_command(const KeysOptions& opts) {
     nlohmann::ordered_json out = nlohmann::ordered_json::array();
     for (const ParamInfo* k : keys)
       out.push_back({{"key", k->key}, {"type", param_type_name(k->type)},
-                     {"default", k->default_text}, {"range", k->range_text}, {"unit", k->unit},
+                     {"default", json_default(k->default_text)}, {"range", k->range_text}, {"unit", k->unit},
                      {"description", k->description}});
     std::cout << out.dump(2) << "\n";
   } else if (opts.format == "markdown") {

@@ -79,7 +79,13 @@ RunConfig load_run_config(const std::string& path, const std::vector<std::string
   c.scene.resolved = resolve_scene_path(c.scene.path, r.base_dir());
   c.scene.camera = kSceneCamera.read(r);
   for (const char* key : {"scene.path", "scene.camera", "layout.kind"}) c.origins[key] = r.where(key);
-  c.origins["camera"] = r.has("camera.eye") ? r.where("camera.eye") : r.where("camera.target");
+  // The camera's: the first camera.* key given by --set, else camera.eye's place in the file.
+  c.origins["camera"] = r.where("camera.eye");
+  for (const char* key : {"camera.eye", "camera.target", "camera.up", "camera.vfov"})
+    if (r.where(key).rfind("--set ", 0) == 0) {
+      c.origins["camera"] = r.where(key);
+      break;
+    }
 
   // [camera]: an explicit pinhole camera (all of eye, target; up and vfov default)
   const auto eye = kEye.read(r), target = kTarget.read(r), up = kUp.read(r);
@@ -117,6 +123,12 @@ RunConfig load_run_config(const std::string& path, const std::vector<std::string
   c.sim.clock_mhz = read_clock_mhz(r);
   c.unit = read_unit_params(r);
   c.sim.vcd_path = read_vcd_path(r);
+  // A timed tier with one layout writes the file itself (several: files beside it, named
+  // from its stem; the functional tier none).
+  std::error_code vcd_ec;
+  if (c.sim.tier != "functional" && c.layout.kinds.size() == 1 && !c.sim.vcd_path.empty() &&
+      std::filesystem::is_directory(c.sim.vcd_path, vcd_ec))
+    r.fail(KeyError("sim.vcd", c.sim.vcd_path + ": is a directory (need a file name)"));
   c.dram = read_dram_params(r);
   c.functional = read_functional_params(r);
   if (c.sim.tier == "rtl") {

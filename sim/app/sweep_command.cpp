@@ -4,6 +4,7 @@
 // one job of the plan (what the local runner and the Dask workers start).
 #include <chrono>
 #include <filesystem>
+#include <optional>
 #include <cstdio>
 #include <cstdlib>
 #include <thread>
@@ -94,33 +95,44 @@ int sweep_command() {
   if (!o.run.scheduler.empty()) check_scheduler_address(o.run.scheduler);
   // The jobs read the spec from wherever they start (a Dask worker's own directory).
   o.run.spec = fs::absolute(o.run.spec).lexically_normal().string();
-  // A directory this sweep makes is removed again if bad input stops it: nothing is left of a
-  // sweep that could not run. One that held the sweep before keeps what it held.
+  // The directories this sweep makes (--out and any missing parents) are removed again if bad
+  // input stops it before any job finished: nothing is left of a sweep that could not run. A
+  // finished job's rows, or a directory that held the sweep before, stay.
   std::error_code ec;
-  const bool made_here = !fs::exists(o.out, ec);
+  fs::path made = fs::absolute(o.out, ec).lexically_normal();
+  if (made.filename().empty()) made = made.parent_path();  // a trailing '/'
+  if (fs::exists(made, ec)) {
+    made.clear();
+  } else {
+    while (made.has_parent_path() && made.parent_path() != made &&
+           !fs::exists(made.parent_path(), ec))
+      made = made.parent_path();
+  }
   const auto discard = [&] {
-    if (made_here) fs::remove_all(o.out, ec);
+    if (made.empty()) return;
+    const fs::path jobs = fs::path(o.out) / "jobs";
+    if (fs::is_directory(jobs, ec) && !fs::is_empty(jobs, ec)) return;
+    fs::remove_all(made, ec);
   };
+  std::optional<SweepDir> dir;
+  std::vector<size_t> pending;
   int rc = 0;
   try {
-    const SweepDir dir = open_sweep_dir(o.out, plan);
-    const std::vector<size_t> pending = pending_sweep_jobs(plan, dir);
-    const size_t skipped = plan.jobs.size() - pending.size();
-    rc = run_sweep_jobs(plan, dir, o.run, pending);
-    if (rc == 0) {
-      dir.write_results(plan);
-      std::printf("rtusim sweep %s -> %s/results.csv: %zu points in %zu jobs (%zu done before), "
-                  "%.1f s\n",
-                  options().run.spec.c_str(), o.out.c_str(), plan.points.size(), plan.jobs.size(),
-                  skipped,
-                  std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-    }
+    dir.emplace(open_sweep_dir(o.out, plan));
+    pending = pending_sweep_jobs(plan, *dir);
+    rc = run_sweep_jobs(plan, *dir, o.run, pending);
   } catch (const InputError&) {
     discard();
     throw;
   }
   if (rc == 2) discard();
   if (rc != 0) return rc;
+  dir->write_results(plan);
+  std::printf("rtusim sweep %s -> %s/results.csv: %zu points in %zu jobs (%zu done before), "
+              "%.1f s\n",
+              options().run.spec.c_str(), o.out.c_str(), plan.points.size(), plan.jobs.size(),
+              plan.jobs.size() - pending.size(),
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   if (!o.no_plots) draw_sweep_plots(o.out);
   return 0;
 }

@@ -89,9 +89,11 @@ std::string describe(const std::vector<std::string>& keys, const std::vector<std
 std::vector<Dim> read_dims(const toml::table& sweep, const std::string& spec,
                            const fs::path& spec_dir) {
   std::vector<Dim> dims;
-  const auto fix_scene = [&](const std::string& key, const toml::node& v) {
+  const auto set_text = [&](const std::string& key, const toml::node& v) {
     if (key == "scene.path" && v.is_string())
       return value_text(toml::value<std::string>(absolute_scene_path(v.as_string()->get(), spec_dir)));
+    if (const auto* i = v.as_integer())  // 0x2000 and 8192 are one value
+      return value_text(toml::value<int64_t>(i->get()));
     return value_text(v);
   };
   std::vector<std::pair<std::string, const toml::node*>> keys;
@@ -125,7 +127,7 @@ std::vector<Dim> read_dims(const toml::table& sweep, const std::string& spec,
         std::vector<std::string> vals(d.keys.size()), cells(d.keys.size());
         for (const auto& [key, node] : entry) {
           const size_t i = std::find(d.keys.begin(), d.keys.end(), key) - d.keys.begin();
-          vals[i] = fix_scene(key, *node);
+          vals[i] = set_text(key, *node);
           cells[i] = cell_text(*node);
         }
         d.values.push_back(vals);
@@ -144,7 +146,7 @@ std::vector<Dim> read_dims(const toml::table& sweep, const std::string& spec,
     d.name = key;
     d.keys = {key};
     for (const auto& v : *arr) {
-      d.values.push_back({fix_scene(key, v)});
+      d.values.push_back({set_text(key, v)});
       d.cells.push_back({cell_text(v)});
     }
     dims.push_back(std::move(d));
@@ -192,9 +194,12 @@ class TempFile {
 };
 
 // The message of a config error with the temporary base file's name (and line) cut off.
-std::string inner_message(const std::string& what, const std::string& base_path) {
+std::string inner_message(const std::string& what, const std::string& base_path,
+                          const std::vector<std::string>& user_sets) {
+  for (const std::string& set : user_sets)  // the user's own --set is named as such
+    if (what.rfind("--set " + set + ": ", 0) == 0) return what;
   if (what.rfind("--set ", 0) == 0 && what.find(": ") != std::string::npos)
-    return what.substr(what.find(": ") + 2);  // the sweep names the key and value itself
+    return what.substr(what.find(": ") + 2);  // a point's key: the sweep names key and value
   if (what.rfind(base_path, 0) != 0) return what;
   size_t i = base_path.size();
   if (i < what.size() && what[i] == ':') ++i;
@@ -206,10 +211,9 @@ std::string inner_message(const std::string& what, const std::string& base_path)
 
 }  // namespace
 
-SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string>& sets) {
+SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string>& user_sets) {
   SweepPlan plan;
   plan.spec_path = spec_path;
-  plan.sets = sets;
   {
     std::error_code ec;
     if (!fs::is_regular_file(spec_path, ec)) throw InputError(spec_path + ": sweep spec not found");
@@ -230,12 +234,27 @@ SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string
     throw InputError(spec_path + ": [sweep]: missing (a sweep spec is a run config plus a "
                      "[sweep] table of keys with lists of values)");
   const fs::path spec_dir = fs::absolute(fs::path(spec_path)).parent_path();
+  // The command's --set; a relative scene path among them made absolute against the spec's
+  // directory, as `rtusim run SPEC --set scene.path=…` reads it (the runs live elsewhere).
+  std::vector<std::string> sets = user_sets;
+  for (std::string& set : sets)
+    if (set.rfind("scene.path=", 0) == 0) {
+      toml::table t;
+      apply_assignment(t, set);
+      if (const auto* path = t["scene"]["path"].as_string())
+        set = "scene.path=" +
+              value_text(toml::value<std::string>(absolute_scene_path(path->get(), spec_dir)));
+    }
+  plan.sets = sets;
   std::vector<Dim> dims = read_dims(*sweep, spec_path, spec_dir);
   for (const std::string& set : sets) {
     const std::string key = set.substr(0, set.find('='));
+    const auto overlaps = [&](const std::string& swept) {  // the key, or a table around it
+      return swept == key || swept.rfind(key + ".", 0) == 0 || key.rfind(swept + ".", 0) == 0;
+    };
     for (const Dim& d : dims)
-      if (std::count(d.keys.begin(), d.keys.end(), key))
-        throw InputError("--set " + set + ": " + key + " is swept by " + spec_path +
+      if (const auto k = std::find_if(d.keys.begin(), d.keys.end(), overlaps); k != d.keys.end())
+        throw InputError("--set " + set + ": " + *k + " is swept by " + spec_path +
                          " ([sweep" + (d.name.rfind("group.", 0) == 0 ? "." + d.name : "") +
                          "]); each point's value would replace it");
   }
@@ -260,7 +279,8 @@ SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string
         throw InputError("scene.path: " + c.scene.resolved + " not found");
       return c;
     } catch (const InputError& e) {
-      throw InputError(spec_path + ": " + what + ": " + inner_message(e.what(), base_file.path()));
+      throw InputError(spec_path + ": " + what + ": " +
+                       inner_message(e.what(), base_file.path(), sets));
     }
   };
   const RunConfig base_config = load(sets, "base config");
@@ -361,7 +381,7 @@ std::string job_error(const SweepPlan& plan, size_t job, const std::string& base
     }
   const std::string set = describe(keys, cells);
   return plan.spec_path + ": [sweep] job " + std::to_string(job) +
-         (set.empty() ? "" : " (" + set + ")") + ": " + inner_message(what, base_path);
+         (set.empty() ? "" : " (" + set + ")") + ": " + inner_message(what, base_path, plan.sets);
 }
 
 }  // namespace rtusim

@@ -73,6 +73,7 @@ ConfigReader ConfigReader::from_file(const std::string& path) {
   if (!text) throw InputError(path + ": cannot read config file");
   ConfigReader r = from_string(*text, path);
   r.base_dir_ = std::filesystem::path(path).parent_path().string();
+  r.from_file_ = true;
   return r;
 }
 
@@ -269,7 +270,7 @@ void ConfigReader::reject_unknown_keys(const std::string& known) const {
   collect_leaves(root_, "", leaves);
   for (const auto& [name, node] : leaves) {
     if (used_.count(name)) continue;
-    if (name.starts_with("sweep."))
+    if (name.starts_with("sweep.") && from_file_ && !override_keys_.count(name))
       fail(name, "a [sweep] table belongs in a sweep spec: run this file with `rtusim sweep`");
     fail(name, "unknown key (" + known + ")");
   }

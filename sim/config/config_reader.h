@@ -80,6 +80,7 @@ class ConfigReader {
 
   std::string origin_;
   std::string base_dir_;
+  bool from_file_ = false;  // read from a file (not text, as replay's --set)
   toml::table root_;
   std::map<std::string, std::string> override_keys_;  // key -> "--set" text, for errors
   std::map<std::string, bool> used_;

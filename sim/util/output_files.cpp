@@ -174,15 +174,17 @@ void OutputFiles::commit() {
   if (existed) {
     // An output directory from before: nothing may stand in the way of an output file, and its
     // other files join the staged ones (hard links) so the exchange keeps them.
+    std::error_code entry_ec;  // a dangling link's status is not an error of the directory
     for (const auto& n : names_)
-      if (fs::is_directory(dir_ / n, ec))
+      if (fs::is_directory(dir_ / n, entry_ec))
         throw InputError((dir_ / n).string() + ": is a directory, cannot write an output file there");
     for (const fs::directory_entry& e : fs::directory_iterator(dir_, ec)) {
       if (holds_cwd) break;
       const std::string n = e.path().filename().string();
       if (std::find(names_.begin(), names_.end(), n) != names_.end()) continue;
-      if (earlier_output_ && earlier_output_(n) && !e.is_directory(ec)) continue;  // dropped
-      if (e.is_directory(ec) && !e.is_symlink(ec)) {
+      const bool is_dir = e.is_directory(entry_ec) && !e.is_symlink(entry_ec);
+      if (earlier_output_ && earlier_output_(n) && !is_dir) continue;  // dropped
+      if (is_dir) {
         subdirs.push_back(n);
       } else if (::link(e.path().c_str(), (staging_ / n).c_str()) != 0) {
         throw InputError(dir_.string() + ": cannot keep its file " + n + " (" + errno_text() + ")");
@@ -197,10 +199,11 @@ void OutputFiles::commit() {
         if (::rename((staging_ / n).c_str(), (dir_ / n).c_str()) != 0)
           throw InputError((dir_ / n).string() + ": cannot write (" + errno_text() + ")");
       fs::remove_all(staging_, ec);
+      std::error_code entry_ec;
       if (earlier_output_)
         for (const fs::directory_entry& e : fs::directory_iterator(dir_, ec)) {
           const std::string n = e.path().filename().string();
-          if (earlier_output_(n) && !e.is_directory(ec) &&
+          if (earlier_output_(n) && !(e.is_directory(entry_ec) && !e.is_symlink(entry_ec)) &&
               std::find(names_.begin(), names_.end(), n) == names_.end())
             fs::remove(e.path(), ec);
         }

@@ -72,7 +72,12 @@ expect_bad cfg_duplicate_key 'dup.toml' run "$in/dup.toml"
 printf '[image]\nwidth = 8\x00\n' > "$in/nul.toml"
 expect_bad cfg_nul_byte 'nul.toml' run "$in/nul.toml"
 expect_bad cfg_missing 'nope.toml: config file not found' run "$in/nope.toml"
-expect_bad cfg_directory 'adir' run "$in/adir"
+expect_bad cfg_directory 'adir: is a directory, not a config file' run "$in/adir"
+expect_bad cfg_not_a_file '/dev/null: not a regular file' run /dev/null
+expect_bad cfg_sweep_table 'study_sweep.toml:[0-9]+: sweep.* belongs in a sweep spec: run this file with `rtusim sweep`' run "$src/configs/study_sweep.toml"
+expect_bad cfg_vcd_directory '^rtusim: --set sim.vcd=.*: sim.vcd: .*: is a directory' run "$D" --set sim.tier=cycle --set sim.vcd="$in/adir"
+expect_bad cli_replay_key_list 'l1.mshrs: unknown key \(replay takes l1.size, l1.assoc, l1.line, l1.policy and l1.seed\)' "$rtusim" replay "$in/good.bin" --set l1.mshrs=3
+expect_bad cli_trace_layouts_set '^rtusim: --set layout.kind=.*: layout.kind: trace takes one layout' "$rtusim" trace "$D" --set 'layout.kind=["dfl","odfl"]' --out "$tmp/new.din"
 expect_bad cfg_set_value '--set tracer.max_depth=x' run "$D" --set tracer.max_depth=x
 expect_bad cfg_set_no_equals 'tracer.max_depth' run "$D" --set tracer.max_depth
 expect_bad cfg_set_unknown 'tracer.bogus' run "$D" --set tracer.bogus=1
@@ -85,6 +90,9 @@ expect_bad cfg_dram_channels 'dram.channels: must be between' run "$D" --set sim
 expect_bad cfg_l1_size 'l1.size' run "$D" --set l1.size=8000
 expect_bad cfg_width_huge 'image.width' run "$D" --set image.width=100000000
 expect_bad cfg_camera_eye_target 'camera: eye equals target' run "$D" --set 'camera.eye=[1,2,3]' --set 'camera.target=[1,2,3]'
+printf '[camera]\neye = [1, 2, 3]\ntarget = [0, 0, 0]\n' > "$in/cam.toml"
+expect_bad cfg_camera_set_origin '^rtusim: --set camera.target=\[1,2,3\]: camera: eye equals target' run "$in/cam.toml" --set 'camera.target=[1,2,3]'
+expect_bad cfg_camera_one_key '^rtusim: --set camera.eye=.*: camera.eye: camera.eye and camera.target are both required' run "$D" --set 'camera.eye=[0.5,0.5,2]'
 expect_bad cfg_camera_up_parallel 'camera: up is parallel' run "$D" --set 'camera.eye=[0,0,0]' --set 'camera.target=[0,5,0]'
 expect_bad cfg_camera_up_zero 'camera: up is the zero vector' run "$D" --set 'camera.eye=[0,0,5]' --set 'camera.target=[0,0,0]' --set 'camera.up=[0,0,0]'
 expect_bad cfg_unknown_camera "scene.camera: no camera node 'nowhere'" run "$D" --set scene.camera=nowhere

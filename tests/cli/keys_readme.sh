@@ -30,6 +30,11 @@ for need in ["scene.path", "scene.camera", "camera.eye", "camera.target", "camer
              "l1.size", "l1.assoc", "l1.line", "l1.policy", "l1.model", "sim.tier",
              "sim.rays_in_flight", "dram.backend"]:
     assert need in names, f"missing key {need}"
+# Defaults are JSON values of their type (not TOML text).
+by = {k["key"]: k for k in keys}
+assert by["l1.size"]["default"] == 8192 and by["scene.path"]["default"] == "builtin:cornell", \
+    (by["l1.size"]["default"], by["scene.path"]["default"])
+assert by["camera.up"]["default"] == [0.0, 1.0, 0.0] and by["camera.eye"]["default"] is None
 text = open(sys.argv[2]).read().split()
 for n in names:
     assert n in text, f"{n} not in the text listing"

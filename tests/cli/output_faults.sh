@@ -61,5 +61,30 @@ for sig in INT TERM; do
   rm -f "$tmp/k.din"
 done
 
+# A run into the directory of an earlier one: the earlier pictures this run does not draw go
+# (two layouts' heatmaps and their difference, then one layout and no image), the user's file
+# stays; from the working directory itself too (renamed in one by one).
+for where in other inside; do
+  rm -rf "$tmp/again" && mkdir -p "$tmp/again" && echo mine > "$tmp/again/notes.txt"
+  "$rtusim" run "$D" "${small[@]}" --set 'layout.kind=["dfl","odfl"]' --out "$tmp/again" > /dev/null || bad "again: first run"
+  if [ "$where" = inside ]; then
+    (cd "$tmp/again" && "$rtusim" run "$D" "${small[@]}" --set image.png=false --out . > /dev/null) || bad "again: second run ($where)"
+  else
+    "$rtusim" run "$D" "${small[@]}" --set image.png=false --out "$tmp/again" > /dev/null || bad "again: second run ($where)"
+  fi
+  got=$(cd "$tmp/again" && ls | tr '\n' ' ')
+  [ "$got" = "config.toml heatmap_dfl.png notes.txt stats.json " ] && ok || bad "again ($where): left $got"
+done
+# A dangling link in the output directory is kept like any other file.
+rm -rf "$tmp/dl" && mkdir -p "$tmp/dl" && ln -s "$tmp/nowhere" "$tmp/dl/zz_link" && ln -s "$tmp/nowhere" "$tmp/dl/image.png"
+"$rtusim" run "$D" "${small[@]}" --set image.png=false --out "$tmp/dl" > /dev/null 2> "$tmp/dl.err" && [ -L "$tmp/dl/zz_link" ] \
+  && ok || bad "dangling link: $(cat "$tmp/dl.err")"
+# config.toml runs again from another directory when the config gave a relative scene path.
+python3 "$src/tests/cli/make_bad_inputs.py" "$tmp/rel/scenes" > /dev/null || bad "relative scene: inputs"
+printf '[scene]\npath = "scenes/good.glb"\n[camera]\neye = [0.2, 0.2, 2]\ntarget = [0.2, 0.2, 0]\n' > "$tmp/rel/rel.toml"
+(cd "$tmp/rel" && "$rtusim" run rel.toml "${small[@]}" --out first > /dev/null) || bad "relative scene: first run"
+(cd "$tmp" && "$rtusim" run rel/first/config.toml --out rerun > /dev/null) && cmp -s <(grep -v second "$tmp/rel/first/stats.json") <(grep -v second "$tmp/rerun/stats.json") \
+  && ok || bad "relative scene: config.toml does not run again from elsewhere"
+
 echo "output_faults: $pass passed, $fail failed"
 [ $fail -eq 0 ]

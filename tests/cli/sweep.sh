@@ -133,6 +133,25 @@ printf '{ "asset": {"version": "2.0"}, "meshes": [ ' > "$tmp/broken.gltf"
 spec_with broken $'[[sweep.group.s]]\nscene.path = "broken.gltf"'
 expect_bad job_bad_scene 'broken.toml: \[sweep\] job 0 \(scene.path = broken.gltf\): scene.path: .*broken.gltf' "$tmp/broken.toml" "$tmp/none"
 [ -e "$tmp/none" ] && bad "a bad spec left $tmp/none" || ok
+# ... nor the parent directories it made for --out.
+expect_bad job_bad_scene_parents 'broken.toml: \[sweep\] job 0' "$tmp/broken.toml" "$tmp/made/for/it"
+[ -e "$tmp/made" ] && bad "a bad spec left $tmp/made" || ok
+# The user's own --set is named as such; a table --set around a swept key counts as setting it;
+# integers are one value however written.
+expect_set() {
+  local name=$1 pattern=$2; shift 2
+  "$rtusim" sweep "$@" --out "$tmp/none" --no-plots > /dev/null 2> "$tmp/stderr"
+  [ $? -eq 2 ] && [ "$(wc -l < "$tmp/stderr")" -eq 1 ] && grep -qE -- "$pattern" "$tmp/stderr" && [ ! -e "$tmp/none" ] \
+    && ok || bad "$name: $(cat "$tmp/stderr")"
+}
+expect_set user_set 'base config: --set l1.assoc=3: ' "$tmp/setswept.toml" --set l1.assoc=3
+expect_set table_set '--set l1=\{size=2048\}: l1.size is swept by' "$tmp/setswept.toml" --set 'l1={size=2048}'
+spec_with hexdup 'l1.size = [8192, 0x2000]'
+expect_bad hex_value_twice 'hexdup.toml: \[sweep\] l1.size: value .* is listed twice' "$tmp/hexdup.toml" "$tmp/none"
+# A relative --set scene.path is read against the spec's directory, as `rtusim run SPEC` reads it.
+mkdir -p "$tmp/rs/scenes" && python3 "$src/tests/cli/make_bad_inputs.py" "$tmp/rs/scenes" > /dev/null
+printf '[image]\nwidth = 8\nheight = 8\n[camera]\neye = [0.2, 0.2, 2]\ntarget = [0.2, 0.2, 0]\n[sweep]\nl1.size = [1024]\n' > "$tmp/rs/spec.toml"
+(cd "$tmp" && "$rtusim" sweep rs/spec.toml --set scene.path=scenes/good.glb --out rs/out --no-plots > /dev/null) && ok || bad "relative --set scene.path"
 # DIR/base.toml carries the sweep's --set: a point is `rtusim run DIR/base.toml --set KEY=VALUE`.
 "$rtusim" sweep "$tmp/setswept.toml" --set image.width=24 --out "$tmp/withset" --no-plots > /dev/null || bad "sweep with --set failed"
 "$rtusim" run "$tmp/withset/base.toml" --set l1.size=2048 --out "$tmp/withset_run" > /dev/null || bad "base.toml run failed"
