@@ -7,6 +7,7 @@
 #include <oneapi/tbb/global_control.h>
 
 #include "app/commands.h"
+#include "app/thread_count_option.h"
 #include "util/error.h"
 #include "util/output_files.h"
 
@@ -19,7 +20,7 @@ int main(int argc, char** argv) {
   int threads = 0;
   auto add_threads = [&](CLI::App* sub) {
     sub->add_option("--threads", threads, "Tracing threads (default: all cores; 1: one thread)")
-        ->check(CLI::Range(1, 4096));
+        ->check(thread_count());
   };
 
   auto* run = app.add_subcommand("run", "Run one simulation: stats.json, config.toml, image.png");

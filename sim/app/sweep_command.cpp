@@ -14,6 +14,7 @@
 #include "app/commands.h"
 #include "app/sweep_job.h"
 #include "app/sweep_runner.h"
+#include "app/thread_count_option.h"
 #include "util/error.h"
 
 namespace rtusim {
@@ -63,7 +64,7 @@ CLI::App* add_sweep_subcommand(CLI::App& app) {
       ->allow_extra_args(false);
   cmd->add_option("--out", o.out, "Output directory (resumable)")->required();
   cmd->add_option("--threads", o.run.threads, "Jobs at once (default: all cores)")
-      ->check(CLI::Range(1u, 4096u));
+      ->check(thread_count());
   cmd->add_option("--scheduler", o.run.scheduler, "Dask scheduler address (tcp://HOST:PORT)");
   cmd->add_flag("--no-plots", o.no_plots, "Do not draw the plots");
   cmd->add_option("--group", o.group, "Run one job of the plan (used by the runners)")

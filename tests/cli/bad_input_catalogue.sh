@@ -41,8 +41,8 @@ D="$src/configs/default.toml"
 expect_bad cli_unknown_subcommand "unknown subcommand 'frobnicate'" "$rtusim" frobnicate "$D"
 expect_bad cli_no_subcommand 'subcommand' "$rtusim"
 expect_bad cli_unknown_option 'unknown-flag|not expected' "$rtusim" run "$D" --unknown-flag
-expect_bad cli_threads_zero '--threads: Value 0 not in range 1 to 4096' "$rtusim" run "$D" --threads 0
-expect_bad cli_threads_word '--threads: Value abc not in range 1 to 4096' "$rtusim" hits "$D" --threads abc --out "$tmp/new.bin"
+expect_bad cli_threads_zero "--threads: expected a whole number from 1 to 4096, got '0'" "$rtusim" run "$D" --threads 0
+expect_bad cli_threads_word "--threads: expected a whole number from 1 to 4096, got 'abc'" "$rtusim" hits "$D" --threads abc --out "$tmp/new.bin"
 expect_bad cli_trace_format "format" "$rtusim" trace "$D" --format xml --out "$tmp/new.din"
 expect_bad cli_replay_no_trace 'trace' "$rtusim" replay
 expect_bad cli_replay_directory "$in: is a directory" "$rtusim" replay "$in"
