@@ -135,7 +135,7 @@ OutputFiles::OutputFiles(fs::path dir) : dir_(std::move(dir)) {
   fs::remove_all(staging_, ec);
   slot_ = register_cleanup(staging_, 2);
   if (::mkdir(staging_.c_str(), 0777) != 0)
-    throw InputError(dir_.string() + ": cannot write beside the output directory (" +
+    throw InputError(dir_.string() + ": cannot make a directory in " + parent.string() + " (" +
                      errno_text() + ")");
 }
 

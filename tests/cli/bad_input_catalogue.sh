@@ -54,7 +54,7 @@ expect_bad cli_trace_out_no_parent 'does not exist' "$rtusim" trace "$D" --out "
 expect_bad cli_hits_out_no_parent 'does not exist' "$rtusim" hits "$D" --out "$tmp/no/such/new.bin"
 : > "$in/afile"
 expect_bad cli_run_out_is_file "afile: exists and is not a directory" "$rtusim" run "$D" --out "$in/afile"
-expect_bad cli_run_out_unwritable "cannot" "$rtusim" run "$D" --out /proc/rtusim-new-out
+expect_bad cli_run_out_unwritable "rtusim-new-out: cannot make a directory in /proc" "$rtusim" run "$D" --out /proc/rtusim-new-out
 expect_bad cli_replay_bad_set "l1.size" "$rtusim" replay "$in/good.bin" --set l1.size=1000
 expect_bad cli_replay_unknown_key "l1.sizes" "$rtusim" replay "$in/good.bin" --set l1.sizes=8192
 
