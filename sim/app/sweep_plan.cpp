@@ -28,6 +28,7 @@ struct Dim {
   std::vector<std::string> keys;            // config keys it sets
   std::vector<std::vector<std::string>> values;  // [entry][key]: TOML text, "" = not set
   std::vector<std::vector<std::string>> cells;   // [entry][key]: CSV text
+  std::vector<uint32_t> lines;                   // [entry]: its line in the spec
 };
 
 // Keys whose values only change the caches or the layout: points differing in them share a job.
@@ -89,6 +90,7 @@ std::string describe(const std::vector<std::string>& keys, const std::vector<std
 std::vector<Dim> read_dims(const toml::table& sweep, const std::string& spec,
                            const fs::path& spec_dir) {
   std::vector<Dim> dims;
+  const auto at = [&](uint32_t line) { return spec + ":" + std::to_string(line); };
   const auto set_text = [&](const std::string& key, const toml::node& v) {
     if (key == "scene.path" && v.is_string())
       return value_text(toml::value<std::string>(absolute_scene_path(v.as_string()->get(), spec_dir)));
@@ -117,6 +119,7 @@ std::vector<Dim> read_dims(const toml::table& sweep, const std::string& spec,
       std::vector<std::vector<std::pair<std::string, const toml::node*>>> per_entry;
       std::set<std::string> all;
       for (const auto& e : *arr) {
+        d.lines.push_back(e.source().begin.line);
         per_entry.emplace_back();
         collect_leaves(*e.as_table(), "", per_entry.back());
         if (per_entry.back().empty()) throw InputError(where + ": an entry sets no key");
@@ -139,13 +142,15 @@ std::vector<Dim> read_dims(const toml::table& sweep, const std::string& spec,
   for (const auto& [key, node] : keys) {
     const auto* arr = node->as_array();
     if (!arr)
-      throw InputError(spec + ": [sweep] " + key + " = " + value_text(*node) +
-                       ": expected a list of values, got " + type_name(*node));
-    if (arr->empty()) throw InputError(spec + ": [sweep] " + key + ": empty list of values");
+      throw InputError(at(node->source().begin.line) + ": [sweep] " + key + " = " +
+                       value_text(*node) + ": expected a list of values, got " + type_name(*node));
+    if (arr->empty())
+      throw InputError(at(node->source().begin.line) + ": [sweep] " + key + ": empty list of values");
     Dim d;
     d.name = key;
     d.keys = {key};
     for (const auto& v : *arr) {
+      d.lines.push_back(v.source().begin.line);
       d.values.push_back({set_text(key, v)});
       d.cells.push_back({cell_text(v)});
     }
@@ -162,11 +167,12 @@ std::vector<Dim> read_dims(const toml::table& sweep, const std::string& spec,
   for (const Dim& d : dims) {
     for (const auto& k : d.keys)
       if (const auto [it, fresh] = owner.try_emplace(k, &d); !fresh)
-        throw InputError(spec + ": " + table(d) + " " + k + ": also swept by " + table(*it->second));
+        throw InputError(at(d.lines.front()) + ": " + table(d) + " " + k + ": also swept by " +
+                         table(*it->second));
     for (size_t e = 0; e < d.values.size(); ++e)
       for (size_t f = 0; f < e; ++f)
         if (d.values[e] == d.values[f])
-          throw InputError(spec + ": " + label(d) + ": " +
+          throw InputError(at(d.lines[e]) + ": " + label(d) + ": " +
                            (d.keys.size() == 1 ? "value " + d.cells[e][0]
                                                : "entry " + std::to_string(e + 1) + " (" +
                                                      describe(d.keys, d.cells[e]) + ")") +
@@ -272,14 +278,16 @@ SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string
   const TempFile base_file(plan.base_toml);
 
   // Loads one point's config; errors name the spec and what the point sets.
-  const auto load = [&](std::vector<std::string> overrides, const std::string& what) {
+  // Errors name the spec (and the line of the value or entry, when one is at fault alone).
+  const auto load = [&](std::vector<std::string> overrides, const std::string& what,
+                        uint32_t line = 0) {
     try {
       RunConfig c = load_run_config(base_file.path(), overrides);
       if (c.scene.resolved.rfind("builtin:", 0) != 0 && !fs::exists(c.scene.resolved))
         throw InputError("scene.path: " + c.scene.resolved + " not found");
       return c;
     } catch (const InputError& e) {
-      throw InputError(spec_path + ": " + what + ": " +
+      throw InputError(spec_path + (line ? ":" + std::to_string(line) : "") + ": " + what + ": " +
                        inner_message(e.what(), base_file.path(), sets));
     }
   };
@@ -322,7 +330,7 @@ SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string
       const std::string what = d.name.rfind("group.", 0) == 0
                                    ? "[sweep." + d.name + "] " + describe(d.keys, d.cells[e])
                                    : "[sweep] " + d.keys[0] + " = " + d.cells[e][0];
-      load(o, what);
+      load(o, what, d.lines[e]);
     }
 
   // The product; each point validated as a whole.

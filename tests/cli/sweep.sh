@@ -103,23 +103,23 @@ sed 's/l1.size = \[2048, 4096\]/l1.size = [2048, 8192]/' "$tmp/resume.toml" > "$
 expect_bad changed_spec 'holds a different sweep' "$tmp/changed.toml" "$tmp/whole"
 spec_with() { printf '[image]\nwidth = 16\nheight = 16\n[sweep]\n%s\n' "$2" > "$tmp/$1.toml"; }
 spec_with unknown 'l1.sise = [1024]'
-expect_bad unknown_key 'unknown.toml: \[sweep\] l1.sise = 1024: l1.sise: unknown key' "$tmp/unknown.toml" "$tmp/none"
+expect_bad unknown_key 'unknown.toml:5: \[sweep\] l1.sise = 1024: l1.sise: unknown key' "$tmp/unknown.toml" "$tmp/none"
 spec_with empty 'l1.size = []'
-expect_bad empty_list 'empty.toml: \[sweep\] l1.size: empty list' "$tmp/empty.toml" "$tmp/none"
+expect_bad empty_list 'empty.toml:5: \[sweep\] l1.size: empty list' "$tmp/empty.toml" "$tmp/none"
 spec_with value 'l1.policy = ["lru", "mru"]'
-expect_bad invalid_value "value.toml: \[sweep\] l1.policy = mru: l1.policy: unknown value 'mru'" "$tmp/value.toml" "$tmp/none"
+expect_bad invalid_value "value.toml:5: \[sweep\] l1.policy = mru: l1.policy: unknown value 'mru'" "$tmp/value.toml" "$tmp/none"
 spec_with notlist 'l1.size = 1024'
-expect_bad not_a_list 'notlist.toml: \[sweep\] l1.size = 1024: expected a list' "$tmp/notlist.toml" "$tmp/none"
+expect_bad not_a_list 'notlist.toml:5: \[sweep\] l1.size = 1024: expected a list' "$tmp/notlist.toml" "$tmp/none"
 spec_with point $'l1.size = [1024]\nl1.line = [128]\nl1.assoc = [16]'
 expect_bad invalid_point 'point.toml: \[sweep\] point 0 \(l1.line = 128, l1.assoc = 16, l1.size = 1024\): l1.size: 1024 is smaller than l1.line x l1.assoc' "$tmp/point.toml" "$tmp/none"
 spec_with scene $'[[sweep.group.s]]\nscene.path = "nowhere.gltf"'
-expect_bad missing_scene 'scene.toml: \[sweep.group.s\] scene.path = nowhere.gltf: scene.path: .*nowhere.gltf not found' "$tmp/scene.toml" "$tmp/none"
+expect_bad missing_scene 'scene.toml:5: \[sweep.group.s\] scene.path = nowhere.gltf: scene.path: .*nowhere.gltf not found' "$tmp/scene.toml" "$tmp/none"
 printf '[image]\nwidth = 16\n' > "$tmp/nosweep.toml"
 expect_bad no_sweep_table 'nosweep.toml: \[sweep\]: missing' "$tmp/nosweep.toml" "$tmp/none"
 spec_with twice $'l1.size = [1024]\n[[sweep.group.a]]\nl1.size = 2048'
-expect_bad key_twice 'twice.toml: \[sweep\] l1.size: also swept by \[sweep.group.a\]' "$tmp/twice.toml" "$tmp/none"
+expect_bad key_twice 'twice.toml:5: \[sweep\] l1.size: also swept by \[sweep.group.a\]' "$tmp/twice.toml" "$tmp/none"
 spec_with dupvalue 'l1.size = [1024, 1024]'
-expect_bad value_twice 'dupvalue.toml: \[sweep\] l1.size: value 1024 is listed twice' "$tmp/dupvalue.toml" "$tmp/none"
+expect_bad value_twice 'dupvalue.toml:5: \[sweep\] l1.size: value 1024 is listed twice' "$tmp/dupvalue.toml" "$tmp/none"
 spec_with setswept 'l1.size = [1024, 2048]'
 "$rtusim" sweep "$tmp/setswept.toml" --set l1.size=4096 --out "$tmp/none" --no-plots > /dev/null 2> "$tmp/stderr"
 [ $? -eq 2 ] && [ "$(wc -l < "$tmp/stderr")" -eq 1 ] && grep -q -- '--set l1.size=4096: l1.size is swept by' "$tmp/stderr" \
@@ -147,7 +147,7 @@ expect_set() {
 expect_set user_set 'base config: --set l1.assoc=3: ' "$tmp/setswept.toml" --set l1.assoc=3
 expect_set table_set '--set l1=\{size=2048\}: l1.size is swept by' "$tmp/setswept.toml" --set 'l1={size=2048}'
 spec_with hexdup 'l1.size = [8192, 0x2000]'
-expect_bad hex_value_twice 'hexdup.toml: \[sweep\] l1.size: value .* is listed twice' "$tmp/hexdup.toml" "$tmp/none"
+expect_bad hex_value_twice 'hexdup.toml:5: \[sweep\] l1.size: value .* is listed twice' "$tmp/hexdup.toml" "$tmp/none"
 # A relative --set scene.path is read against the spec's directory, as `rtusim run SPEC` reads it.
 mkdir -p "$tmp/rs/scenes" && python3 "$src/tests/cli/make_bad_inputs.py" "$tmp/rs/scenes" > /dev/null
 printf '[image]\nwidth = 8\nheight = 8\n[camera]\neye = [0.2, 0.2, 2]\ntarget = [0.2, 0.2, 0]\n[sweep]\nl1.size = [1024]\n' > "$tmp/rs/spec.toml"
