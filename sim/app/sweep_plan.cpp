@@ -277,8 +277,8 @@ SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string
                    " (its [sweep] table removed, the --set applied)\n" + os.str() + "\n";
   const TempFile base_file(plan.base_toml);
 
-  // Loads one point's config; errors name the spec and what the point sets.
-  // Errors name the spec (and the line of the value or entry, when one is at fault alone).
+  // Loads one point's config; errors name the spec (with the line of the value or entry, when
+  // one is at fault alone) and what the point sets.
   const auto load = [&](std::vector<std::string> overrides, const std::string& what,
                         uint32_t line = 0) {
     try {
