@@ -51,7 +51,12 @@ def main():
     jobs = [int(j) for j in a.jobs.split(",") if j != ""]
     if not jobs:
         return 0
-    from distributed import Client, as_completed  # only the Dask path needs it
+    try:
+        from distributed import Client, as_completed  # only the Dask path needs it
+    except ImportError:
+        print(f"rtusim: --scheduler {a.scheduler}: the Python package distributed is missing "
+              f"(scripts/requirements.txt; RTUSIM_PYTHON names the Python to use)", file=sys.stderr)
+        return 1
 
     tty = sys.stderr.isatty()
     try:
