@@ -79,13 +79,7 @@ RunConfig load_run_config(const std::string& path, const std::vector<std::string
   c.scene.resolved = resolve_scene_path(c.scene.path, r.base_dir());
   c.scene.camera = kSceneCamera.read(r);
   for (const char* key : {"scene.path", "scene.camera", "layout.kind"}) c.origins[key] = r.where(key);
-  // The camera's: the first camera.* key given by --set, else camera.eye's place in the file.
-  c.origins["camera"] = r.where("camera.eye");
-  for (const char* key : {"camera.eye", "camera.target", "camera.up", "camera.vfov"})
-    if (r.where(key).rfind("--set ", 0) == 0) {
-      c.origins["camera"] = r.where(key);
-      break;
-    }
+  c.origins["camera"] = r.where_first({"camera.eye", "camera.target", "camera.up", "camera.vfov"});
 
   // [camera]: an explicit pinhole camera (all of eye, target; up and vfov default)
   const auto eye = kEye.read(r), target = kTarget.read(r), up = kUp.read(r);

@@ -53,7 +53,7 @@ struct ReportParams {
 struct RunConfig {
   std::string origin;  // the config file
   // Where the values that later checks name came from (ConfigReader::where): "scene.path",
-  // "scene.camera", "layout.kind", and "camera" (camera.eye, else camera.target).
+  // "scene.camera", "layout.kind", and "camera" (where_first of the camera.* keys).
   std::map<std::string, std::string> origins;
   SceneParams scene;
   std::optional<CameraDesc> camera;  // camera.eye/target/up/vfov, when given

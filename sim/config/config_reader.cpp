@@ -133,13 +133,16 @@ void ConfigReader::fail(const std::string& key, const std::string& what) const {
   throw InputError(where(key) + ": " + key + ": " + what);
 }
 
+std::string ConfigReader::where_first(const std::vector<std::string>& keys) const {
+  for (const std::string& k : keys)
+    if (override_keys_.count(k)) return where(k);
+  for (const std::string& k : keys)
+    if (find(k)) return where(k);
+  return origin_;
+}
+
 void ConfigReader::fail(const KeyError& e) const {
-  for (const std::string& k : e.keys)
-    if (auto it = override_keys_.find(k); it != override_keys_.end())
-      throw InputError(it->second + ": " + e.what());
-  for (const std::string& k : e.keys)
-    if (find(k)) throw InputError(where(k) + ": " + e.what());
-  throw InputError(origin_ + ": " + e.what());
+  throw InputError(where_first(e.keys) + ": " + e.what());
 }
 
 toml::table& ConfigReader::effective_table_for(const std::string& key) {

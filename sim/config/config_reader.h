@@ -54,9 +54,12 @@ class ConfigReader {
   // Where `key`'s value came from, for an error about it: its `--set` assignment, else
   // file:line, else the file (a default).
   std::string where(const std::string& key) const;
+  // Where the values of `keys` came from, for an error involving them all: the first one set by
+  // `--set`, else the first one in the file, else the file.
+  std::string where_first(const std::vector<std::string>& keys) const;
 
-  // Rethrows a params validate() error with where its value came from: the first involved key
-  // set by `--set` (named with its assignment), else the first one in the file (file:line).
+  // Rethrows a params validate() error with where its value came from (where_first of the
+  // keys it involves).
   [[noreturn]] void fail(const KeyError& e) const;
 
   // Throws InputError for the first key (in file order) that no getter asked for; `known`
