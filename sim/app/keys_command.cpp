@@ -69,8 +69,8 @@ int keys_command(const KeysOptions& opts) {
     nlohmann::ordered_json out = nlohmann::ordered_json::array();
     for (const ParamInfo* k : keys)
       out.push_back({{"key", k->key}, {"type", param_type_name(k->type)},
-                     {"default", json_default(k->default_text)}, {"range", k->range_text}, {"unit", k->unit},
-                     {"description", k->description}});
+                     {"default", json_default(k->default_text)}, {"range", k->range_text},
+                     {"unit", k->unit}, {"description", k->description}});
     std::cout << out.dump(2) << "\n";
   } else if (opts.format == "markdown") {
     std::cout << "| key | type | default | range | unit | description |\n"

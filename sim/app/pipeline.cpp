@@ -20,9 +20,9 @@ CameraDesc select_camera(const RunConfig& config, const Scene& scene) {
       if (c.name == config.scene.camera) return c;
     std::string known;
     for (const auto& c : scene.cameras) known += (known.empty() ? "" : ", ") + c.name;
-    throw InputError(config.origins.at("scene.camera") + ": scene.camera: no camera node '" + config.scene.camera +
-                     "' in " + scene.source + " (cameras: " + (known.empty() ? "none" : known) +
-                     ")");
+    throw InputError(config.origins.at("scene.camera") + ": scene.camera: no camera node '" +
+                     config.scene.camera + "' in " + scene.source + " (cameras: " +
+                     (known.empty() ? "none" : known) + ")");
   }
   if (!scene.cameras.empty()) return scene.cameras.front();
   throw InputError(config.origins.at("scene.path") + ": camera: " + scene.source +

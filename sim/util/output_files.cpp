@@ -171,20 +171,27 @@ void OutputFiles::commit() {
   const bool holds_cwd = existed && !ec &&
                          std::mismatch(dir_.begin(), dir_.end(), cwd.begin(), cwd.end()).first ==
                              dir_.end();
+  // An entry of the old directory: a directory of its own (not a link to one), and whether it
+  // is an earlier run's output this run drops (replace_earlier(): not written now).
+  std::error_code entry_ec;  // a dangling link's status is not an error of the directory
+  const auto own_dir = [&](const fs::directory_entry& e) {
+    return e.is_directory(entry_ec) && !e.is_symlink(entry_ec);
+  };
+  const auto dropped = [&](const fs::directory_entry& e, const std::string& n) {
+    return earlier_output_ && earlier_output_(n) && !own_dir(e) &&
+           std::find(names_.begin(), names_.end(), n) == names_.end();
+  };
   if (existed) {
     // An output directory from before: nothing may stand in the way of an output file, and its
     // other files join the staged ones (hard links) so the exchange keeps them.
-    std::error_code entry_ec;  // a dangling link's status is not an error of the directory
     for (const auto& n : names_)
       if (fs::is_directory(dir_ / n, entry_ec))
         throw InputError((dir_ / n).string() + ": is a directory, cannot write an output file there");
     for (const fs::directory_entry& e : fs::directory_iterator(dir_, ec)) {
       if (holds_cwd) break;
       const std::string n = e.path().filename().string();
-      if (std::find(names_.begin(), names_.end(), n) != names_.end()) continue;
-      const bool is_dir = e.is_directory(entry_ec) && !e.is_symlink(entry_ec);
-      if (earlier_output_ && earlier_output_(n) && !is_dir) continue;  // dropped
-      if (is_dir) {
+      if (std::find(names_.begin(), names_.end(), n) != names_.end() || dropped(e, n)) continue;
+      if (own_dir(e)) {
         subdirs.push_back(n);
       } else if (::link(e.path().c_str(), (staging_ / n).c_str()) != 0) {
         throw InputError(dir_.string() + ": cannot keep its file " + n + " (" + errno_text() + ")");
@@ -199,14 +206,9 @@ void OutputFiles::commit() {
         if (::rename((staging_ / n).c_str(), (dir_ / n).c_str()) != 0)
           throw InputError((dir_ / n).string() + ": cannot write (" + errno_text() + ")");
       fs::remove_all(staging_, ec);
-      std::error_code entry_ec;
       if (earlier_output_)
-        for (const fs::directory_entry& e : fs::directory_iterator(dir_, ec)) {
-          const std::string n = e.path().filename().string();
-          if (earlier_output_(n) && !(e.is_directory(entry_ec) && !e.is_symlink(entry_ec)) &&
-              std::find(names_.begin(), names_.end(), n) == names_.end())
-            fs::remove(e.path(), ec);
-        }
+        for (const fs::directory_entry& e : fs::directory_iterator(dir_, ec))
+          if (dropped(e, e.path().filename().string())) fs::remove(e.path(), ec);
     } else if (!existed) {
       if (::rename(staging_.c_str(), dir_.c_str()) != 0)
         throw InputError(dir_.string() + ": cannot create the output directory (" + errno_text() + ")");
