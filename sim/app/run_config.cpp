@@ -42,9 +42,10 @@ const StringParam kScenePath("scene.path", "builtin:cornell", {}, "path",
                              "builtin:NAME");
 const StringParam kSceneCamera("scene.camera", "", {}, "",
                                "glTF camera node name (\"\": camera.*, else the first camera)");
-const Vec3Param kEye("camera.eye", "", "scene units", "pinhole camera position (with target)");
-const Vec3Param kTarget("camera.target", "", "scene units", "point the camera looks at");
-const Vec3Param kUp("camera.up", "[0.0, 1.0, 0.0]", "", "camera up direction");
+const Vec3Param kEye("camera.eye", std::nullopt, "scene units",
+                     "pinhole camera position (with target)");
+const Vec3Param kTarget("camera.target", std::nullopt, "scene units", "point the camera looks at");
+const Vec3Param kUp("camera.up", glm::vec3(0, 1, 0), "", "camera up direction");
 const FloatParam kVfov("camera.vfov", 45.0, 1e-3, 179.0, "degrees", "vertical field of view");
 const IntParam kWidth("image.width", kImage.width, 1, 16384, "pixels", "image width");
 const IntParam kHeight("image.height", kImage.height, 1, 16384, "pixels", "image height");
@@ -82,9 +83,11 @@ RunConfig load_run_config(const std::string& path, const std::vector<std::string
   c.origins["camera"] = r.where_first({"camera.eye", "camera.target", "camera.up", "camera.vfov"});
 
   // [camera]: an explicit pinhole camera (all of eye, target; up and vfov default)
-  const auto eye = kEye.read(r), target = kTarget.read(r), up = kUp.read(r);
-  const bool any_camera = eye || target || up || r.has(kVfov.key());
+  const auto eye = kEye.read(r), target = kTarget.read(r);
+  const bool any_camera = eye || target || r.has(kUp.key()) || r.has(kVfov.key());
   if (any_camera) {
+    // up and vfov are read (and their defaults recorded) only for a camera of the config.
+    const glm::vec3 up = *kUp.read(r);
     const double vfov = kVfov.read(r);
     if (!eye || !target)
       r.fail(KeyError({"camera.eye", "camera.target", "camera.up", "camera.vfov"},
@@ -93,8 +96,7 @@ RunConfig load_run_config(const std::string& path, const std::vector<std::string
     if (!c.scene.camera.empty())
       r.fail(KeyError({"scene.camera", "camera.eye", "camera.target", "camera.up", "camera.vfov"},
                       "give scene.camera or camera.*, not both"));
-    c.camera = CameraDesc{"config", *eye, *target, up.value_or(glm::vec3(0, 1, 0)),
-                          static_cast<float>(vfov)};
+    c.camera = CameraDesc{"config", *eye, *target, up, static_cast<float>(vfov)};
   }
 
   // [image]

@@ -248,11 +248,13 @@ std::vector<std::string> ConfigReader::get_string_list(const std::string& key,
   return v;
 }
 
-std::optional<glm::vec3> ConfigReader::get_vec3(const std::string& key) {
+std::optional<glm::vec3> ConfigReader::get_vec3(const std::string& key,
+                                                std::optional<glm::vec3> fallback) {
   const toml::node* n = find(key);
   if (!n) {
     used_[key] = true;
-    return std::nullopt;
+    if (fallback) record(key, toml::array{fallback->x, fallback->y, fallback->z});
+    return fallback;
   }
   const toml::array* a = n->as_array();
   if (!a || a->size() != 3) fail(key, "expected an array of 3 numbers");

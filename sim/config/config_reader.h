@@ -49,7 +49,8 @@ class ConfigReader {
   std::vector<std::string> get_string_list(const std::string& key,
                                            const std::vector<std::string>& fallback,
                                            const std::vector<std::string>& allowed = {});
-  std::optional<glm::vec3> get_vec3(const std::string& key);
+  // Absent: `fallback`, recorded when there is one.
+  std::optional<glm::vec3> get_vec3(const std::string& key, std::optional<glm::vec3> fallback);
   bool has(const std::string& key) const;
   // Where `key`'s value came from, for an error about it: its `--set` assignment, else
   // file:line, else the file (a default).

@@ -31,6 +31,12 @@ std::string range_text(T min, T max) {
 
 std::string quoted(const std::string& s) { return "\"" + s + "\""; }
 
+std::string vec3_text(const glm::vec3& v) {
+  std::string t = "[";
+  for (int i = 0; i < 3; ++i) t.append(i ? ", " : "").append(number_text(double(v[i])));
+  return t.append("]");
+}
+
 std::string choices_text(const std::vector<std::string>& choices) {
   if (choices.empty()) return "";
   std::string t = "one of: ";
@@ -103,9 +109,11 @@ StringListParam::StringListParam(std::string key, std::vector<std::string> fallb
                  choices_text(choices), "", std::move(description)}),
       fallback_(std::move(fallback)), choices_(std::move(choices)) {}
 
-Vec3Param::Vec3Param(std::string key, std::string default_text, std::string unit,
+Vec3Param::Vec3Param(std::string key, std::optional<glm::vec3> fallback, std::string unit,
                      std::string description)
-    : ParamDecl({std::move(key), ParamType::kVec3, std::move(default_text), "", std::move(unit),
-                 std::move(description)}) {}
+    : ParamDecl({std::move(key), ParamType::kVec3,
+                 fallback ? vec3_text(*fallback) : "",
+                 "", std::move(unit), std::move(description)}),
+      fallback_(fallback) {}
 
 }  // namespace rtusim

@@ -119,11 +119,16 @@ class StringListParam final : public ParamDecl {
   std::vector<std::string> fallback_, choices_;
 };
 
-// Three numbers; absent keys read as nullopt (`default_text` says what applies then).
+// Three numbers; an absent key reads as its default (recorded in the effective config), or as
+// nullopt when it has none.
 class Vec3Param final : public ParamDecl {
  public:
-  Vec3Param(std::string key, std::string default_text, std::string unit, std::string description);
-  std::optional<glm::vec3> read(ConfigReader& r) const { return r.get_vec3(key()); }
+  Vec3Param(std::string key, std::optional<glm::vec3> fallback, std::string unit,
+            std::string description);
+  std::optional<glm::vec3> read(ConfigReader& r) const { return r.get_vec3(key(), fallback_); }
+
+ private:
+  std::optional<glm::vec3> fallback_;
 };
 
 }  // namespace rtusim

@@ -16,7 +16,7 @@ const FloatParam kMirrorThreshold("tracer.mirror_threshold", kDefaults.mirror_th
                                   1.0, "", "metallic at or above this reflects");
 const FloatParam kAmbient("tracer.ambient", 0.1, 0.0, 1e6, "",
                           "ambient term times base colour");
-const Vec3Param kBackground("tracer.background", "[0.5, 0.5, 1.0]", "linear RGB",
+const Vec3Param kBackground("tracer.background", kDefaults.background, "linear RGB",
                             "colour of a ray that hits nothing");
 const BoolParam kHeadlight("tracer.headlight", kDefaults.headlight,
                            "a point light at the eye when the scene has none");
@@ -29,7 +29,7 @@ TracerParams read_tracer_params(ConfigReader& r) {
   t.order = kRayOrder.read(r) == "wavefront" ? RayOrder::kWavefront : RayOrder::kRecursive;
   t.mirror_threshold = static_cast<float>(kMirrorThreshold.read(r));
   t.ambient = static_cast<float>(kAmbient.read(r));
-  if (auto bg = kBackground.read(r)) t.background = *bg;
+  t.background = *kBackground.read(r);
   t.headlight = kHeadlight.read(r);
   return t;
 }

@@ -37,6 +37,40 @@ assert da == db, [k for k in da if da[k] != db.get(k)]
 cfg = tomllib.load(open(sys.argv[3], "rb"))
 assert cfg["image"]["width"] == 48 and cfg["tracer"]["max_depth"] == 4, cfg
 PY
+# The effective config holds every key's default (camera.up and camera.vfov only with a camera of
+# the config's own: they would make one), and with a camera, those two too.
+"$rtusim" keys --format json > "$tmp/keys.json"
+"$rtusim" run "$src/configs/default.toml" "${small[@]}" --set 'camera.eye=[0,1,3]' \
+  --set 'camera.target=[0,1,0]' --set image.png=false --out "$tmp/cam" > /dev/null
+python3 - "$tmp/keys.json" "$tmp/a/config.toml" "$tmp/cam/config.toml" <<'PY'
+import json, math, sys, tomllib
+keys = json.load(open(sys.argv[1]))
+def value(cfg, key):
+    for part in key.split("."):
+        if not isinstance(cfg, dict) or part not in cfg:
+            return None
+        cfg = cfg[part]
+    return cfg
+def same(a, b):
+    if isinstance(a, list):
+        return isinstance(b, list) and len(a) == len(b) and all(map(same, a, b))
+    if isinstance(a, float) or isinstance(b, float):
+        return isinstance(b, (int, float)) and math.isclose(a, b, rel_tol=1e-6)
+    return a == b
+for path, camera in ((sys.argv[2], False), (sys.argv[3], True)):
+    cfg = tomllib.load(open(path, "rb"))
+    for k in keys:
+        key, default = k["key"], k["default"]
+        if key in ("image.width", "image.height") or default is None:
+            continue
+        got = value(cfg, key)
+        if key in ("camera.up", "camera.vfov") and not camera:
+            assert got is None, (path, key, got)
+            continue
+        if camera and key == "image.png":
+            continue
+        assert got is not None and same(default, got), (path, key, default, got)
+PY
 # The effective config reproduces the run.
 "$rtusim" run "$tmp/a/config.toml" --out "$tmp/c" > /dev/null
 python3 - "$tmp/a/stats.json" "$tmp/c/stats.json" <<'PY'
