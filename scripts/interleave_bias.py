@@ -3,7 +3,7 @@
 timed interleaved mode against the cycle tier, at 1, 8, 32 and 128 rays in flight (wavefront
 order, one layout).
 
-Writes interleave_bias.csv and prints a Markdown table: for each scene and rays-in-flight count,
+Writes interleave_bias_<name>.csv per scene and prints a Markdown table: for each scene and rays-in-flight count,
 the cycle tier's node DRAM bytes and sim.cycles, the relative error of the functional tier (which
 traces one ray at a time whatever the count), of functional.rays_in_flight = the same count
 (round-robin) and of the same with functional.timed = true (node bytes, and its estimate.cycles
@@ -11,7 +11,9 @@ against sim.cycles), and the seconds of each (trace.seconds, the median of --rep
 the cycle tier runs on one thread, the functional tier on --threads, the interleaved modes on
 one).
 
-Usage: scripts/interleave_bias.py CONFIG... [--size 512] [--layout dfl] [--repeats 1] [--out docs]
+Usage: scripts/interleave_bias.py CONFIG... [--names NAME...] [--size 512] [--layout dfl]
+                                  [--repeats 1] [--out out/charts]
+(the committed tables are in docs/: --names kitchen sponza --out docs redraws them)
 """
 import argparse
 import csv
@@ -39,14 +41,21 @@ def main():
     ap.add_argument("--layout", default="dfl")
     ap.add_argument("--in-flight", type=int, nargs="+", default=[1, 8, 32, 128])
     ap.add_argument("--repeats", type=int, default=1)
-    ap.add_argument("--out", type=pathlib.Path, default=ROOT / "docs")
-    ap.add_argument("--csv", default="interleave_bias.csv")
+    ap.add_argument("--names", nargs="+", help="one name per config for the CSVs' names "
+                    "(default: each config's file stem)")
+    ap.add_argument("--out", type=pathlib.Path, default=ROOT / "out" / "charts",
+                    help="output directory (default out/charts; docs: the committed set)")
     ap.add_argument("--rtusim", type=pathlib.Path, default=ROOT / "build" / "rtusim")
     args = ap.parse_args()
+    names = args.names or [c.stem for c in args.configs]
+    if len(names) != len(args.configs):
+        ap.error(f"--names gives {len(names)} names for {len(args.configs)} configs")
+    if len(set(names)) != len(names):
+        ap.error(f"two configs have the same name ({' '.join(names)}): give --names")
     common = [f"image.width={args.size}", f"image.height={args.size}", "tracer.ray_order=wavefront",
               f"layout.kind={args.layout}", "image.png=false", "image.heatmaps=false"]
     rows = []
-    for config in args.configs:
+    for config, name in zip(args.configs, names):
         functional = stats(args.rtusim, config, common, args.repeats)
         for n in args.in_flight:
             cycle = stats(args.rtusim, config, common + ["sim.tier=cycle", f"sim.rays_in_flight={n}"],
@@ -55,7 +64,7 @@ def main():
                           args.repeats)
             timed = stats(args.rtusim, config, common + [f"functional.rays_in_flight={n}",
                                                           "functional.timed=true"], args.repeats)
-            row = {"scene": config.stem, "rays_in_flight": n,
+            row = {"scene": name, "rays_in_flight": n,
                    "cycle_node_bytes": cycle["dram.bytes.nodes"] if cycle else "failed",
                    "cycle_cycles": cycle["sim.cycles"] if cycle else "",
                    "functional_node_bytes": functional["dram.bytes.nodes"],
@@ -77,10 +86,11 @@ def main():
             rows.append(row)
             print(rows[-1], flush=True)
     args.out.mkdir(parents=True, exist_ok=True)
-    with open(args.out / args.csv, "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
-        w.writeheader()
-        w.writerows(rows)
+    for name in names:
+        with open(args.out / f"interleave_bias_{name}.csv", "w", newline="") as f:
+            w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
+            w.writeheader()
+            w.writerows(r for r in rows if r["scene"] == name)
     print("| scene | rays in flight | cycle node MB | functional | round-robin | timed | "
           "timed cycles | cycle s / round-robin s / timed s |")
     print("|---|---:|---:|---:|---:|---:|---:|---|")

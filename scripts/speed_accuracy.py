@@ -12,7 +12,8 @@ tree build; --cycle-repeats for the sampled cycle-tier and naive points, the rtl
 y = relative error of node DRAM bytes and of cycles, with 95% CI bars, the Pareto front marked.
 
 Usage: scripts/speed_accuracy.py CONFIG [--name NAME] [--size N] [--repeats 3] [--cycle-repeats N]
-                                 [--no-rtl] [--out docs]
+                                 [--no-rtl] [--out out/charts]
+(the committed charts are in docs/: --out docs redraws them)
 """
 import argparse
 import csv
@@ -159,7 +160,8 @@ def main():
     ap.add_argument("--rays-in-flight", type=int, default=32)
     ap.add_argument("--no-rtl", action="store_true")
     ap.add_argument("--replot", action="store_true", help="redraw from the CSV of an earlier run")
-    ap.add_argument("--out", type=pathlib.Path, default=ROOT / "docs")
+    ap.add_argument("--out", type=pathlib.Path, default=ROOT / "out" / "charts",
+                    help="output directory (default out/charts; docs: the committed set)")
     ap.add_argument("--rtusim", type=pathlib.Path, default=ROOT / "build" / "rtusim")
     args = ap.parse_args()
     name = args.name or args.config.stem
