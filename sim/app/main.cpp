@@ -7,6 +7,7 @@
 #include <oneapi/tbb/global_control.h>
 
 #include "app/commands.h"
+#include "app/set_option.h"
 #include "app/thread_count_option.h"
 #include "util/error.h"
 #include "util/output_files.h"
@@ -25,23 +26,20 @@ int main(int argc, char** argv) {
 
   auto* run = app.add_subcommand("run", "Run one simulation: stats.json, config.toml, image.png");
   run->add_option("config", run_opts.config, "TOML run config")->required();
-  run->add_option("--set", run_opts.overrides, "Override a config key: KEY=VALUE")
-      ->allow_extra_args(false);
+  add_set_option(run, run_opts.overrides, "Override a config key");
   run->add_option("--out", run_opts.out, "Output directory (default: out)");
   add_threads(run);
 
   auto* hits = app.add_subcommand("hits", "Write primary-ray hits (RTH1 format)");
   hits->add_option("config", hits_opts.config, "TOML run config")->required();
-  hits->add_option("--set", hits_opts.overrides, "Override a config key: KEY=VALUE")
-      ->allow_extra_args(false);
+  add_set_option(hits, hits_opts.overrides, "Override a config key");
   hits->add_option("--out", hits_opts.out, "Output file")->required();
   add_threads(hits);
 
   TraceOptions trace_opts;
-  auto* trace = app.add_subcommand("trace", "Write the node-fetch address stream (din or bin)");
+  auto* trace = app.add_subcommand("trace", "Write the node-fetch address stream (din, din-sized or bin)");
   trace->add_option("config", trace_opts.config, "TOML run config (one layout)")->required();
-  trace->add_option("--set", trace_opts.overrides, "Override a config key: KEY=VALUE")
-      ->allow_extra_args(false);
+  add_set_option(trace, trace_opts.overrides, "Override a config key");
   trace->add_option("--out", trace_opts.out, "Output trace file")->required();
   trace->add_option("--format", trace_opts.format,
                     "din (Dinero IV, default), din-sized (din + access size) or bin")
@@ -51,8 +49,8 @@ int main(int argc, char** argv) {
   ReplayOptions replay_opts;
   auto* replay = app.add_subcommand("replay", "Replay a node trace through one cache (l1.*)");
   replay->add_option("trace", replay_opts.trace, "bin or din trace file")->required();
-  replay->add_option("--set", replay_opts.overrides, "Cache parameter: l1.size/assoc/line/policy=V")
-      ->allow_extra_args(false);
+  add_set_option(replay, replay_opts.overrides,
+                 "Cache parameter l1.size, l1.assoc, l1.line, l1.policy or l1.seed");
 
   RegressOptions regress_opts;
   auto* regress = app.add_subcommand("regress", "Rerun the reference cases; report every mismatch");

@@ -84,7 +84,7 @@ std::vector<Case> find_cases(const fs::path& dir, bool update) {
       c.expected = read_expected(c.expected_path);
     else if (!update)
       throw InputError(c.expected_path.string() +
-                       ": missing (create it with scripts/update_references.sh)");
+                       ": missing (create it with rtusim regress DIR --update)");
     cases.push_back(std::move(c));
   }
   if (cases.empty())

@@ -66,6 +66,9 @@ int run_command(const RunOptions& opts) {
   const auto t_start = std::chrono::steady_clock::now();
   const std::string out_dir = opts.out.empty() ? "out" : opts.out;
   const Prepared p = prepare_run(opts.config, opts.overrides);
+  if (p.config.sim.tier == "functional" && !p.config.sim.vcd_path.empty())
+    std::fprintf(stderr, "rtusim: note: sim.vcd (%s) is not written: the functional tier has no "
+                 "signals (sim.tier = cycle or rtl writes it)\n", p.config.sim.vcd_path.c_str());
   OutputFiles outputs(out_dir);  // created only once the inputs are known to be good
   // An earlier run's pictures that this run does not draw go: the directory shows this run.
   outputs.replace_earlier([](const std::string& n) {

@@ -12,6 +12,7 @@
 #include <CLI/CLI.hpp>
 
 #include "app/commands.h"
+#include "app/set_option.h"
 #include "app/sweep_job.h"
 #include "app/sweep_runner.h"
 #include "app/thread_count_option.h"
@@ -60,8 +61,7 @@ CLI::App* add_sweep_subcommand(CLI::App& app) {
   SweepOptions& o = options();
   auto* cmd = app.add_subcommand("sweep", "Sweep a run config over a [sweep] table of keys");
   cmd->add_option("spec", o.run.spec, "TOML sweep spec: a run config plus [sweep]")->required();
-  cmd->add_option("--set", o.run.sets, "Override a base config key: KEY=VALUE")
-      ->allow_extra_args(false);
+  add_set_option(cmd, o.run.sets, "Override a base config key");
   cmd->add_option("--out", o.out, "Output directory (resumable)")->required();
   cmd->add_option("--threads", o.run.threads, "Jobs at once (default: all cores)")
       ->check(thread_count());

@@ -12,8 +12,8 @@ namespace {
 const FloatParam kClockMhz("sim.clock_mhz", CycleParams{}.clock_mhz, 1.0, 100000.0, "MHz",
                            "unit and cache clock (cycle and rtl tiers)");
 const StringParam kVcd("sim.vcd", "", {}, "path",
-                       "write a VCD here: the unit's state (l1.model = cpp) or the RTL L1's "
-                       "signals (rtl); \"\" = none");
+                       "cycle and rtl tiers: write a VCD here, the unit's state (l1.model = "
+                       "cpp) or the RTL L1's signals (rtl); \"\" = none");
 
 }  // namespace
 

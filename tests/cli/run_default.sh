@@ -144,3 +144,8 @@ for y in range(H):
 assert white < W * H, "ODFL and DFL differ somewhere"
 PY
 echo "run_default: 1 passed, 0 failed"
+# sim.vcd in the functional tier: no file, and a note that says so (exit 0).
+"$rtusim" run "$src/configs/default.toml" "${small[@]}" --set sim.vcd="$tmp/f.vcd" --out "$tmp/v" \
+  > /dev/null 2> "$tmp/v.err"
+[ ! -e "$tmp/f.vcd" ] && grep -q "sim.vcd ($tmp/f.vcd) is not written: the functional tier" "$tmp/v.err" \
+  || { echo "FAIL: sim.vcd in the functional tier"; cat "$tmp/v.err"; exit 1; }

@@ -68,7 +68,8 @@ const StringParam kBackend("dram.backend", kDefaults.backend, DramBackends::name
                            "DRAM timing model: fr-fcfs (banks, rows, FR-FCFS) or fixed "
                            "(fixed latency, bus bandwidth)");
 const StringParam kStandard("dram.standard", kDefaults.standard, known_dram_standards(), "",
-                            "speed-grade preset: the default of every dram.* value below");
+                            "speed-grade preset: the default of dram.data_rate_mts, "
+                            "tRCD_ns, tRP_ns, tCL_ns and latency_ns");
 const IntParam kChannels("dram.channels", kDefaults.channels, 1, 64, "", "channels");
 const IntParam kBanks("dram.banks", kDefaults.banks, 1, 1024, "", "banks per channel");
 const IntParam kRowBytes("dram.row_bytes", static_cast<int64_t>(kDefaults.row_bytes), 1,
