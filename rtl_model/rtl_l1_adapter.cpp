@@ -147,7 +147,10 @@ uint64_t RtlL1Adapter::head_lookup_cycle() const {
 }
 
 uint64_t RtlL1Adapter::first_drivable_cycle() const {
-  return cycle_open_ ? cycle_ : cycle_at_or_after(now_ps());
+  // Not open, the cycle under way has not been driven: the clock runs from an edge (now, when
+  // clocking) or stands still since one (idle), and the RTL samples its inputs only at the edge
+  // that ends the cycle, so they may still be set mid-cycle.
+  return cycle_open_ ? cycle_ : now_ps() / period_;
 }
 
 // ---- Downstream: line reads out, fills in -------------------------------------------------
@@ -302,7 +305,7 @@ bool RtlL1Adapter::quiescent() const {
 }
 
 uint64_t RtlL1Adapter::next_work_cycle() const {
-  const uint64_t now_cycle = cycle_at_or_after(now_ps());
+  const uint64_t now_cycle = first_drivable_cycle();
   uint64_t c = kNone;
   if (!offering_ && !queue_.empty()) c = std::max(head_lookup_cycle(), now_cycle);
   if (!fills_.empty()) c = std::min(c, std::max(fills_.begin()->first - 1, now_cycle));
@@ -337,21 +340,22 @@ void RtlL1Adapter::run() {
         continue;
       }
       const uint64_t now = now_ps(), start = c * period_;
-      if (start == now) break;
+      if (start <= now) break;  // before: the cycle under way, which nothing has driven
       wait(ps(start - now), work_);
     }
     running_ = true;
-    // Clocking: one cycle per pass, starting at an edge with the outputs settled.
+    // Clocking: one cycle per pass with the outputs settled, from an edge or, when DRAM has
+    // just told a fill for the next edge, from the middle of the cycle under way.
     for (uint64_t c = now_ps() / period_;; ++c) {
       drive_cycle(c);
+      const uint64_t edge = (c + 1) * period_;
       if (vcd_) {  // a clock that looks like one: falling mid-cycle
-        wait(ps(period_ / 2));
+        const uint64_t fall = c * period_ + period_ / 2;
+        if (fall > now_ps()) wait(ps(fall - now_ps()));
         clk_.write(false);
-        wait(ps(period_ - period_ / 2));
-      } else {
-        wait(ps(period_));
       }
-      sample((c + 1) * period_);
+      wait(ps(edge - now_ps()));
+      sample(edge);
       clk_.write(true);
       wait(sc_core::SC_ZERO_TIME);  // the RTL evaluates the edge
       if (!vcd_) clk_.write(false);  // falls a delta later: one timed wait per cycle, not two

@@ -19,7 +19,9 @@
 //    fill cycle T is the first cycle >= ceil(F/P) no other fill holds, taken in the order the
 //    answers arrive; i_mem_resp_* is driven in cycle T-1 and at the edge TP every waiter of
 //    o_fill_mshr is answered (after the acceptance of that edge, so a merge in cycle T-1 is
-//    answered too). Learning F too late to drive cycle T-1 is a logic_error.
+//    answered too). Cycle T-1 may be driven until its edge (the RTL samples inputs only
+//    there): told F while the clock stands still in cycle T-1, the clock starts mid-cycle.
+//    Learning F after cycle T-1 was driven is a logic_error.
 //  - Order of the answers at one edge: the fill's waiters in lookup order (the primary first),
 //    then the hit.
 //
