@@ -78,7 +78,7 @@ uint64_t TimedEngine::l1_lookup(L1Timing& l1, Slot& slot, uint64_t line, bool in
 bool TimedEngine::decide_lookup(L1Timing& l1, Lookup& q, uint64_t& answer) {
   const size_t mshrs = l1.mshr_fill.size();
   size_t m = mshrs;
-  uint64_t c;
+  uint64_t c = 0;  // set on both paths below (initialised for -Og's -Wmaybe-uninitialized)
   if (q.blocked_at == kUnknown) {
     c = std::max(q.t, l1.port_free);
     // An unknown fill comes after the DRAM's next decision, so after c when c is at or before
@@ -358,8 +358,8 @@ void TimedEngine::run(const RayStepLog& log, bool last, Sink& sink, Events& even
     if (!start(waiting_, waiting_cycle_)) return;
     waiting_ = kNoSlot;
   }
-  uint32_t slot;
-  uint64_t t;
+  uint32_t slot = 0;  // set by take() (initialised for -Og's -Wmaybe-uninitialized)
+  uint64_t t = 0;
   for (;;) {
     // The earlier of the next event and the DRAM's next decision (an event of its time first).
     if (!events.take(slot, t, decision_cycle_)) {
