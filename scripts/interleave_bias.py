@@ -3,13 +3,13 @@
 timed interleaved mode against the cycle tier, at 1, 8, 32 and 128 rays in flight (wavefront
 order, one layout).
 
-Writes interleave_bias_<name>.csv per scene and prints a Markdown table: for each scene and rays-in-flight count,
-the cycle tier's node DRAM bytes and sim.cycles, the relative error of the functional tier (which
-traces one ray at a time whatever the count), of functional.rays_in_flight = the same count
-(round-robin) and of the same with functional.timed = true (node bytes, and its estimate.cycles
-against sim.cycles), and the seconds of each (trace.seconds, the median of --repeats runs;
-the cycle tier runs on one thread, the functional tier on --threads, the interleaved modes on
-one).
+Writes interleave_bias_<name>.csv per scene and prints a Markdown table: for each scene and
+rays-in-flight count, the cycle tier's node DRAM bytes and sim.cycles, the relative error of the
+functional tier (which traces one ray at a time whatever the count), of
+functional.rays_in_flight = the same count (round-robin) and of the same with
+functional.timed = true (node bytes, and its estimate.cycles against sim.cycles), and the
+seconds of each (trace.seconds, the median of --repeats runs; the cycle tier runs on one thread,
+the functional tier on --threads, the interleaved modes on one).
 
 Usage: scripts/interleave_bias.py CONFIG... [--names NAME...] [--size 512] [--layout dfl]
                                   [--repeats 1] [--out out/charts]

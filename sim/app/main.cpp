@@ -37,7 +37,8 @@ int main(int argc, char** argv) {
   add_threads(hits);
 
   TraceOptions trace_opts;
-  auto* trace = app.add_subcommand("trace", "Write the node-fetch address stream (din, din-sized or bin)");
+  auto* trace =
+      app.add_subcommand("trace", "Write the node-fetch address stream (din, din-sized or bin)");
   trace->add_option("config", trace_opts.config, "TOML run config (one layout)")->required();
   add_set_option(trace, trace_opts.overrides, "Override a config key");
   trace->add_option("--out", trace_opts.out, "Output trace file")->required();

@@ -111,9 +111,8 @@ StringListParam::StringListParam(std::string key, std::vector<std::string> fallb
 
 Vec3Param::Vec3Param(std::string key, std::optional<glm::vec3> fallback, std::string unit,
                      std::string description)
-    : ParamDecl({std::move(key), ParamType::kVec3,
-                 fallback ? vec3_text(*fallback) : "",
-                 "", std::move(unit), std::move(description)}),
+    : ParamDecl({std::move(key), ParamType::kVec3, fallback ? vec3_text(*fallback) : "", "",
+                 std::move(unit), std::move(description)}),
       fallback_(fallback) {}
 
 }  // namespace rtusim
