@@ -105,7 +105,7 @@ void SweepDir::write_results(const SweepPlan& plan) const {
   std::vector<nlohmann::json> rows(plan.points.size());
   std::set<std::string> stats_keys;
   std::ostringstream timings;
-  timings << "job,points,layouts,timed,seconds\n";
+  timings << "job,points,layouts,alone,seconds\n";  // alone: one point run by simulate()
   for (size_t j = 0; j < plan.jobs.size(); ++j) {
     const nlohmann::json job = nlohmann::json::parse(read_text(job_file(j)));
     std::set<std::string> layouts;
@@ -120,7 +120,7 @@ void SweepDir::write_results(const SweepPlan& plan) const {
       layout_list += l;
     }
     timings << j << "," << job.at("points").get<size_t>() << "," << layout_list << ","
-            << (plan.jobs[j].timed ? 1 : 0) << "," << job.at("seconds").get<double>() << "\n";
+            << (plan.jobs[j].alone ? 1 : 0) << "," << job.at("seconds").get<double>() << "\n";
   }
   for (const auto& c : plan.columns) stats_keys.erase(c);  // the swept column stands for it
   std::ostringstream csv;

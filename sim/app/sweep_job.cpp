@@ -11,6 +11,7 @@
 #include "sweep/sweep_backend.h"
 #include "tier/functional_tier.h"
 #include "tracer/whitted_tracer.h"
+#include "util/stats.h"
 
 namespace rtusim {
 namespace {
@@ -123,16 +124,12 @@ void run_functional(const SweepPlan& plan, const SweepJob& job, const std::strin
 
 }  // namespace
 
-bool is_timing_key(const std::string& key) {
-  return key.ends_with("seconds") || key == "trace.rays_per_second";
-}
-
 nlohmann::json run_sweep_job(const SweepPlan& plan, size_t job, const std::string& base_path,
                              unsigned threads) {
   const auto t0 = std::chrono::steady_clock::now();
   const SweepJob& j = plan.jobs.at(job);
   nlohmann::json rows = nlohmann::json::object();
-  if (j.timed) {
+  if (j.alone) {
     const SweepPoint& pt = plan.points[j.points.front()];
     std::vector<std::string> overrides = plan.sets;
     overrides.insert(overrides.end(), pt.overrides.begin(), pt.overrides.end());

@@ -21,8 +21,4 @@ namespace rtusim {
 nlohmann::json run_sweep_job(const SweepPlan& plan, size_t job, const std::string& base_path,
                              unsigned threads = 1);
 
-// Whether a stats key is a timing (left out of the rows): ends in "seconds", or a rate per
-// second of wall time.
-bool is_timing_key(const std::string& key);
-
 }  // namespace rtusim

@@ -298,10 +298,11 @@ SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string
     return std::count(d.keys.begin(), d.keys.end(), "layout.kind") != 0;
   });
   if (!layout_swept && base_config.layout.kinds.size() > 1) {
-    Dim d{"layout.kind", {"layout.kind"}, {}, {}};
+    Dim d{"layout.kind", {"layout.kind"}, {}, {}, {}};
     for (const auto& k : base_config.layout.kinds) {
       d.values.push_back({"'" + k + "'"});
       d.cells.push_back({k});
+      d.lines.push_back(0);  // from the base config, not a line of [sweep]
     }
     dims.push_back(std::move(d));
   }
@@ -362,8 +363,9 @@ SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string
                        ": layout.kind: a point has one layout (sweep layout.kind instead)");
     pt.caches = c.fetch_caches();
     pt.layout = c.layout.kinds.front();
-    pt.timed = c.sim.tier != FunctionalTier::kName;
-    if (pt.timed) {
+    pt.alone = c.sim.tier != FunctionalTier::kName || c.sample.active() ||
+               c.functional.rays_in_flight > 1 || c.functional.timed;
+    if (pt.alone) {
       pt.job = plan.jobs.size();
       plan.jobs.push_back(SweepJob{{index}, true});
     } else {
@@ -383,7 +385,7 @@ std::string job_error(const SweepPlan& plan, size_t job, const std::string& base
   const SweepPoint& pt = plan.points.at(j.points.front());
   std::vector<std::string> keys, cells;
   for (size_t i = 0; i < plan.columns.size(); ++i)
-    if (j.timed || !is_cache_key(plan.columns[i])) {
+    if (j.alone || !is_cache_key(plan.columns[i])) {
       keys.push_back(plan.columns[i]);
       cells.push_back(pt.cells[i]);
     }

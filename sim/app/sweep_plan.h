@@ -9,9 +9,10 @@
 //
 // The points are the product of the dimensions; a point is the base config (the spec without
 // [sweep], then the command's --set) with the point's overrides, exactly what `rtusim run BASE
-// --set …` runs. Functional points that differ only in cache keys and layout.kind form one job
-// (one prepared scene and tree, one traced frame per layout for all their caches); every point
-// of a timed tier is its own job. Every point is validated by load_run_config before anything
+// --set …` runs. Plain functional points that differ only in cache keys and layout.kind form one
+// job (one prepared scene and tree, one traced frame per layout for all their caches); every
+// other point (a timed tier, sampled, the functional tier's interleaved or timed mode) is its
+// own job. Every point is validated by load_run_config before anything
 // runs; errors name the spec file, the key and the value.
 #pragma once
 #include <cstddef>
@@ -27,13 +28,16 @@ struct SweepPoint {
   std::vector<std::string> cells;      // CSV text of each swept column, as in the spec
   FetchCacheParams caches;             // the node L1 and data cache of the point
   std::string layout;                  // its one layout.kind
-  bool timed = false;                  // sim.tier cycle or rtl
+  // Run alone by simulate(), as `rtusim run` runs it: a timed tier (cycle, rtl), a sampled run,
+  // or the functional tier's interleaved or timed mode. The one-pass evaluation of a job's
+  // caches traces the whole frame one ray at a time, the plain functional tier only.
+  bool alone = false;
   size_t job = 0;
 };
 
 struct SweepJob {
   std::vector<size_t> points;  // in point order
-  bool timed = false;
+  bool alone = false;          // one point, run by simulate()
 };
 
 struct SweepPlan {

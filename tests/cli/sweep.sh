@@ -61,6 +61,32 @@ head -1 "$tmp/group/results.csv" | grep -q '^sim.tier,tracer.max_depth,layout.ki
   sim.tier,tracer.max_depth,layout.kind,l1.line,dcache.policy,dcache.line,dcache.assoc,dcache.size \
   && ok || bad "group: sweep differs from rtusim run"
 
+# 2b. Points the one-pass evaluation cannot stand for (the functional tier's interleaved and
+# timed modes, sampled runs) each run alone, as rtusim run runs them; several layouts in the base
+# config and none swept: one point per layout.
+cat > "$tmp/modes.toml" <<'TOML'
+[image]
+width = 16
+height = 16
+png = false
+[tracer]
+max_depth = 2
+ray_order = "wavefront"
+[layout]
+kind = ["dfl", "odfl"]
+[sweep]
+functional.rays_in_flight = [1, 8]
+functional.timed = [false, true]
+sample.rate = [1.0, 0.5]
+TOML
+"$rtusim" sweep "$tmp/modes.toml" --out "$tmp/modes" --no-plots > /dev/null || bad "modes sweep failed"
+rows=$(($(wc -l < "$tmp/modes/results.csv") - 1))
+[ "$rows" -eq 16 ] && ok || bad "modes: $rows rows, want 2x2x2 x 2 layouts = 16"
+head -1 "$tmp/modes/results.csv" | grep -q 'estimate.cycles' && ok || bad "modes: no estimate.cycles column"
+head -1 "$tmp/modes/results.csv" | grep -q 'rays_simulated_per_second' && bad "modes: a wall-clock rate in results.csv" || ok
+"$py" "$src/tests/cli/sweep_check.py" "$rtusim" "$tmp/modes" 1 \
+  functional.rays_in_flight,functional.timed,sample.rate,layout.kind && ok || bad "modes: sweep differs from rtusim run"
+
 # 3. Resume: killed (with its jobs) at several moments, then rerun: the same results.csv.
 cat > "$tmp/resume.toml" <<'TOML'
 [image]
