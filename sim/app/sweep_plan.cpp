@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -279,16 +280,22 @@ SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string
 
   // Loads one point's config; errors name the spec (with the line of the value or entry, when
   // one is at fault alone) and what the point sets.
-  const auto load = [&](std::vector<std::string> overrides, const std::string& what,
+  const auto load_config = [&](const std::vector<std::string>& overrides) {
+    RunConfig c = load_run_config(base_file.path(), overrides);
+    if (c.scene.resolved.rfind("builtin:", 0) != 0 && !fs::exists(c.scene.resolved))
+      throw InputError("scene.path: " + c.scene.resolved + " not found");
+    return c;
+  };
+  const auto located = [&](const std::string& what, uint32_t line, const std::string& inner) {
+    return InputError(spec_path + (line ? ":" + std::to_string(line) : "") + ": " + what + ": " +
+                      inner);
+  };
+  const auto load = [&](const std::vector<std::string>& overrides, const std::string& what,
                         uint32_t line = 0) {
     try {
-      RunConfig c = load_run_config(base_file.path(), overrides);
-      if (c.scene.resolved.rfind("builtin:", 0) != 0 && !fs::exists(c.scene.resolved))
-        throw InputError("scene.path: " + c.scene.resolved + " not found");
-      return c;
+      return load_config(overrides);
     } catch (const InputError& e) {
-      throw InputError(spec_path + (line ? ":" + std::to_string(line) : "") + ": " + what + ": " +
-                       inner_message(e.what(), base_file.path(), sets));
+      throw located(what, line, inner_message(e.what(), base_file.path(), sets));
     }
   };
   const RunConfig base_config = load(sets, "base config");
@@ -322,17 +329,29 @@ SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string
   for (const Dim& d : dims)
     for (const auto& k : d.keys) plan.columns.push_back(k);
 
-  // Every value alone, so a bad one is named before any combination of it.
-  for (const Dim& d : dims)
+  // Every value alone on the base config: its error, if any ("" if none). A value may fail
+  // alone and hold with the other swept values (l1.assoc = 3 with l1.size = [3072, 6144]), so
+  // an error stops the sweep only when a point meets it: then named at the value's line.
+  std::vector<std::vector<std::string>> alone_error(dims.size());
+  const auto value_what = [](const Dim& d, size_t e) {
+    return d.name.rfind("group.", 0) == 0 ? "[sweep." + d.name + "] " + describe(d.keys, d.cells[e])
+                                          : "[sweep] " + d.keys[0] + " = " + d.cells[e][0];
+  };
+  for (size_t i = 0; i < dims.size(); ++i) {
+    const Dim& d = dims[i];
     for (size_t e = 0; e < d.values.size(); ++e) {
       std::vector<std::string> o = sets;
       for (size_t k = 0; k < d.keys.size(); ++k)
         if (!d.values[e][k].empty()) o.push_back(d.keys[k] + "=" + d.values[e][k]);
-      const std::string what = d.name.rfind("group.", 0) == 0
-                                   ? "[sweep." + d.name + "] " + describe(d.keys, d.cells[e])
-                                   : "[sweep] " + d.keys[0] + " = " + d.cells[e][0];
-      load(o, what, d.lines[e]);
+      std::string error;
+      try {
+        load_config(o);
+      } catch (const InputError& ex) {
+        error = inner_message(ex.what(), base_file.path(), sets);
+      }
+      alone_error[i].push_back(error);
     }
+  }
 
   // The product; each point validated as a whole.
   size_t total = 1;
@@ -356,8 +375,20 @@ SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string
       }
     std::vector<std::string> all = sets;
     all.insert(all.end(), pt.overrides.begin(), pt.overrides.end());
-    const RunConfig c = load(all, "[sweep] point " + std::to_string(index) + " (" +
-                                      describe(plan.columns, pt.cells) + ")");
+    std::optional<RunConfig> loaded;
+    try {
+      loaded = load_config(all);
+    } catch (const InputError& ex) {
+      // Named by the value whose own error this is, else as the point.
+      const std::string error = inner_message(ex.what(), base_file.path(), sets);
+      for (size_t i = 0; i < dims.size(); ++i)
+        if (alone_error[i][entry[i]] == error)
+          throw located(value_what(dims[i], entry[i]), dims[i].lines[entry[i]], error);
+      throw located("[sweep] point " + std::to_string(index) + " (" +
+                        describe(plan.columns, pt.cells) + ")",
+                    0, error);
+    }
+    const RunConfig& c = *loaded;
     if (c.layout.kinds.size() != 1)
       throw InputError(spec_path + ": [sweep] point " + std::to_string(index) +
                        ": layout.kind: a point has one layout (sweep layout.kind instead)");

@@ -138,6 +138,12 @@ spec_with notlist 'l1.size = 1024'
 expect_bad not_a_list 'notlist.toml:5: \[sweep\] l1.size = 1024: expected a list' "$tmp/notlist.toml" "$tmp/none"
 spec_with point $'l1.size = [1024]\nl1.line = [128]\nl1.assoc = [16]'
 expect_bad invalid_point 'point.toml: \[sweep\] point 0 \(l1.line = 128, l1.assoc = 16, l1.size = 1024\): l1.size: 1024 is smaller than l1.line x l1.assoc' "$tmp/point.toml" "$tmp/none"
+# A value that fails alone on the base config but holds with the other swept values: valid.
+spec_with together $'l1.assoc = [3, "full"]\nl1.size = [3072, 6144]'
+"$rtusim" sweep "$tmp/together.toml" --out "$tmp/together" --no-plots > /dev/null 2> "$tmp/stderr" \
+  && [ "$(($(wc -l < "$tmp/together/results.csv") - 1))" -eq 4 ] && ok || bad "together: $(cat "$tmp/stderr")"
+spec_with apart $'l1.assoc = [3, "full"]\nl1.size = [3072, 8192]'
+expect_bad value_with_another 'apart.toml:5: \[sweep\] l1.assoc = 3: l1.size: 8192 is not a multiple of l1.line x l1.assoc' "$tmp/apart.toml" "$tmp/none"
 spec_with scene $'[[sweep.group.s]]\nscene.path = "nowhere.gltf"'
 expect_bad missing_scene 'scene.toml:5: \[sweep.group.s\] scene.path = nowhere.gltf: scene.path: .*nowhere.gltf not found' "$tmp/scene.toml" "$tmp/none"
 printf '[image]\nwidth = 16\n' > "$tmp/nosweep.toml"
