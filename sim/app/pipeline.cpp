@@ -13,8 +13,9 @@
 
 namespace rtusim {
 
-CameraDesc select_camera(const RunConfig& config, const Scene& scene) {
-  if (config.camera) return *config.camera;
+namespace {
+
+CameraDesc scene_camera(const RunConfig& config, const Scene& scene) {
   if (!config.scene.camera.empty()) {
     for (const auto& c : scene.cameras)
       if (c.name == config.scene.camera) return c;
@@ -29,6 +30,15 @@ CameraDesc select_camera(const RunConfig& config, const Scene& scene) {
                    " has no camera; set scene.camera or camera.eye/camera.target");
 }
 
+}  // namespace
+
+CameraDesc select_camera(const RunConfig& config, const Scene& scene) {
+  if (config.camera) return *config.camera;
+  CameraDesc c = scene_camera(config, scene);
+  if (config.scene_vfov_deg) c.vfov_deg = *config.scene_vfov_deg;
+  return c;
+}
+
 Prepared prepare_run(const std::string& config_path, const std::vector<std::string>& overrides) {
   Prepared p;
   p.config = load_run_config(config_path, overrides);
@@ -41,9 +51,15 @@ Prepared prepare_run(const std::string& config_path, const std::vector<std::stri
   p.scene_load_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   p.camera = select_camera(p.config, p.scene);
-  if (const std::string why = camera_problem(p.camera); !why.empty())
-    throw InputError(p.config.origins.at(p.config.camera ? "camera" : "scene.camera") + ": " +
-                     (p.config.camera ? "camera" : "scene.camera") + ": " + why);
+  // A camera of the config is named by its key at fault; a scene's by scene.camera.
+  if (const CameraProblem bad = camera_problem(p.camera); !bad.field.empty()) {
+    if (p.config.camera) {
+      const std::string key = "camera." + bad.field;
+      throw InputError(p.config.origins.at(key) + ": " + key + ": " + bad.what);
+    }
+    throw InputError(p.config.origins.at("scene.camera") + ": scene.camera: " + p.camera.name +
+                     ": " + bad.what);
+  }
   p.tree = build_sah_kd_tree(p.scene, p.config.kdtree);
   for (const auto& kind : p.config.layout.kinds) {
     const std::unique_ptr<Layout> layout = make_layout(kind);

@@ -45,8 +45,10 @@ const StringParam kSceneCamera("scene.camera", "", {}, "",
 const Vec3Param kEye("camera.eye", std::nullopt, "scene units",
                      "pinhole camera position (with target)");
 const Vec3Param kTarget("camera.target", std::nullopt, "scene units", "point the camera looks at");
-const Vec3Param kUp("camera.up", glm::vec3(0, 1, 0), "", "camera up direction");
-const FloatParam kVfov("camera.vfov", 45.0, 1e-3, 179.0, "degrees", "vertical field of view");
+const Vec3Param kUp("camera.up", glm::vec3(0, 1, 0), "",
+                    "camera up direction (with camera.eye and camera.target)");
+const FloatParam kVfov("camera.vfov", 45.0, 1e-3, 179.0, "degrees",
+                       "vertical field of view (alone: of the scene's camera)");
 const IntParam kWidth("image.width", kImage.width, 1, 16384, "pixels", "image width");
 const IntParam kHeight("image.height", kImage.height, 1, 16384, "pixels", "image height");
 const BoolParam kPng("image.png", kImage.write_png, "write image.png, the rendered frame");
@@ -80,19 +82,23 @@ RunConfig load_run_config(const std::string& path, const std::vector<std::string
   c.scene.resolved = resolve_scene_path(c.scene.path, r.base_dir());
   c.scene.camera = kSceneCamera.read(r);
   for (const char* key : {"scene.path", "scene.camera", "layout.kind"}) c.origins[key] = r.where(key);
-  c.origins["camera"] = r.where_first({"camera.eye", "camera.target", "camera.up", "camera.vfov"});
+  for (const char* key : {"camera.eye", "camera.target", "camera.up", "camera.vfov"})
+    c.origins[key] = r.where(key);
 
-  // [camera]: an explicit pinhole camera (all of eye, target; up and vfov default)
+  // [camera]: an explicit pinhole camera (all of eye, target; up and vfov default), or
+  // camera.vfov alone: the field of view of the scene's camera.
   const auto eye = kEye.read(r), target = kTarget.read(r);
-  const bool any_camera = eye || target || r.has(kUp.key()) || r.has(kVfov.key());
+  const bool any_camera = eye || target || r.has(kUp.key());
+  if (!any_camera && r.has(kVfov.key())) c.scene_vfov_deg = static_cast<float>(kVfov.read(r));
   if (any_camera) {
     // up and vfov are read (and their defaults recorded) only for a camera of the config.
     const glm::vec3 up = *kUp.read(r);
     const double vfov = kVfov.read(r);
     if (!eye || !target)
       r.fail(KeyError({"camera.eye", "camera.target", "camera.up", "camera.vfov"},
-                      "camera.eye and camera.target are both required when any camera.* key "
-                      "is given"));
+                      "camera.eye and camera.target are both required for a camera of the "
+                      "config (camera.up or camera.vfov with them; camera.vfov alone sets the "
+                      "scene camera's)"));
     if (!c.scene.camera.empty())
       r.fail(KeyError({"scene.camera", "camera.eye", "camera.target", "camera.up", "camera.vfov"},
                       "give scene.camera or camera.*, not both"));

@@ -53,10 +53,11 @@ struct ReportParams {
 struct RunConfig {
   std::string origin;  // the config file
   // Where the values that later checks name came from (ConfigReader::where): "scene.path",
-  // "scene.camera", "layout.kind", and "camera" (where_first of the camera.* keys).
+  // "scene.camera", "layout.kind", and each camera.* key.
   std::map<std::string, std::string> origins;
   SceneParams scene;
   std::optional<CameraDesc> camera;  // camera.eye/target/up/vfov, when given
+  std::optional<float> scene_vfov_deg;  // camera.vfov alone: the scene camera's field of view
   ImageParams image;
   TracerParams tracer;
   KdBuildParams kdtree;

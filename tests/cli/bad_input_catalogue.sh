@@ -89,12 +89,13 @@ expect_bad cfg_rays_in_flight_max 'sim.rays_in_flight: must be between 1 and 655
 expect_bad cfg_dram_channels 'dram.channels: must be between' run "$D" --set sim.tier=cycle --set dram.channels=0
 expect_bad cfg_l1_size 'l1.size' run "$D" --set l1.size=8000
 expect_bad cfg_width_huge 'image.width' run "$D" --set image.width=100000000
-expect_bad cfg_camera_eye_target 'camera: eye equals target' run "$D" --set 'camera.eye=[1,2,3]' --set 'camera.target=[1,2,3]'
+expect_bad cfg_camera_eye_target 'camera.target: target equals eye' run "$D" --set 'camera.eye=[1,2,3]' --set 'camera.target=[1,2,3]'
 printf '[camera]\neye = [1, 2, 3]\ntarget = [0, 0, 0]\n' > "$in/cam.toml"
-expect_bad cfg_camera_set_origin '^rtusim: --set camera.target=\[1,2,3\]: camera: eye equals target' run "$in/cam.toml" --set 'camera.target=[1,2,3]'
+expect_bad cfg_camera_set_origin '^rtusim: --set camera.target=\[1,2,3\]: camera.target: target equals eye' run "$in/cam.toml" --set 'camera.target=[1,2,3]'
 expect_bad cfg_camera_one_key '^rtusim: --set camera.eye=.*: camera.eye: camera.eye and camera.target are both required' run "$D" --set 'camera.eye=[0.5,0.5,2]'
-expect_bad cfg_camera_up_parallel 'camera: up is parallel' run "$D" --set 'camera.eye=[0,0,0]' --set 'camera.target=[0,5,0]'
-expect_bad cfg_camera_up_zero 'camera: up is the zero vector' run "$D" --set 'camera.eye=[0,0,5]' --set 'camera.target=[0,0,0]' --set 'camera.up=[0,0,0]'
+expect_bad cfg_camera_up_parallel 'configs/default.toml: camera.up: up is parallel' run "$D" --set 'camera.eye=[0,0,0]' --set 'camera.target=[0,5,0]'
+expect_bad cfg_camera_up_zero '^rtusim: --set camera.up=\[0,0,0\]: camera.up: up is the zero vector' run "$D" --set 'camera.eye=[0,0,5]' --set 'camera.target=[0,0,0]' --set 'camera.up=[0,0,0]'
+expect_bad cfg_camera_far '^rtusim: --set camera.eye=\[1e20,1,3\]: camera.eye: eye and target are too far apart for single precision' run "$D" --set 'camera.eye=[1e20,1,3]' --set 'camera.target=[0,1,0]'
 expect_bad cfg_unknown_camera "scene.camera: no camera node 'nowhere'" run "$D" --set scene.camera=nowhere
 
 # ---- scene ----
@@ -124,7 +125,7 @@ expect_bad scene_extension "scene.obj: unknown scene file extension" run "$in/sc
 scene_cfg missing.gltf
 expect_bad scene_missing 'scene.path: .*missing.gltf' run "$in/missing.gltf.toml"
 scene_cfg good.gltf '[camera]\neye = [0.2, 0.2, 1]\ntarget = [0.2, 0.2, 1]\n'
-expect_bad scene_camera_eye_target 'camera: eye equals target' run "$in/good.gltf.toml"
+expect_bad scene_camera_eye_target 'good.gltf.toml:[0-9]*: camera.target: target equals eye' run "$in/good.gltf.toml"
 
 # ---- trace ----
 for case in bad_version:'unsupported bin trace version 7' node_zero:'node size 0 bytes' \

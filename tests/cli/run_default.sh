@@ -149,3 +149,21 @@ echo "run_default: 1 passed, 0 failed"
   > /dev/null 2> "$tmp/v.err"
 [ ! -e "$tmp/f.vcd" ] && grep -q "sim.vcd ($tmp/f.vcd) is not written: the functional tier" "$tmp/v.err" \
   || { echo "FAIL: sim.vcd in the functional tier"; cat "$tmp/v.err"; exit 1; }
+# camera.vfov alone: the scene camera's field of view (narrower: fewer pixels see the room's
+# walls, so a different frame), kept in config.toml, which runs it again; camera.up alone is an
+# error naming what a config camera needs.
+"$rtusim" run "$src/configs/default.toml" "${small[@]}" --set camera.vfov=30 --out "$tmp/f30" > /dev/null
+"$rtusim" run "$tmp/f30/config.toml" --out "$tmp/f30b" > /dev/null
+python3 - "$tmp/a/stats.json" "$tmp/f30/stats.json" "$tmp/f30b/stats.json" "$tmp/f30/config.toml" <<'PY'
+import json, sys, tomllib
+a, f, g = (json.load(open(p)) for p in sys.argv[1:4])
+assert f["traversal.node_fetches"] != a["traversal.node_fetches"], "camera.vfov alone changed nothing"
+assert f["traversal.node_fetches"] == g["traversal.node_fetches"], "config.toml does not rerun it"
+assert tomllib.load(open(sys.argv[4], "rb"))["camera"] == {"vfov": 30.0}
+PY
+set +e
+"$rtusim" run "$src/configs/default.toml" "${small[@]}" --set 'camera.up=[0,1,0]' --out "$tmp/up" > /dev/null 2> "$tmp/up.err"
+rc=$?
+set -e
+[ $rc -eq 2 ] && grep -q "camera.eye and camera.target are both required" "$tmp/up.err" && [ ! -e "$tmp/up" ] \
+  || { echo "FAIL: camera.up alone: exit $rc: $(cat "$tmp/up.err")"; exit 1; }
