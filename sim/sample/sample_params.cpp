@@ -82,7 +82,7 @@ SampleParams read_sample_params(ConfigReader& r, RayOrder order) {
     r.fail(KeyError({kEstimator.key(), "tracer.ray_order"},
                     "\"ratio\" needs tracer.ray_order = \"wavefront\" (in recursive order the "
                     "frame's rays are not traced, so not known)"));
-  s.origin = r.origin();
+  s.target_key_origin = r.where("sample.target_key");
   return s;
 }
 

@@ -48,7 +48,8 @@ struct SampleParams {
   int min_units = 30;       // fewer units than this: the CIs are flagged as not valid
   SampleEstimator estimator = SampleEstimator::kMean;
   std::string estimator_name = "mean";
-  std::string origin;       // the config file, for errors found while running
+  std::string target_key_origin;  // where target_key came from (its --set, or file:line), for
+                                  // the error found while running
 
   bool active() const { return rate < 1.0 || target_ci > 0.0; }
 };

@@ -190,7 +190,7 @@ FrameResult SampledFrame::render(const Scene& scene, const TracerParams& tracer_
     const bool exact_key =
         order_ == RayOrder::kWavefront && params_.target_key.rfind("rays.", 0) == 0;
     if (!params_.target_key.empty() && !exact_key && !sample.values.count(params_.target_key))
-      throw InputError(params_.origin + ": sample.target_key: '" + params_.target_key +
+      throw InputError(params_.target_key_origin + ": sample.target_key: '" + params_.target_key +
                        "' is not measured by this tier");
     while (params_.target_ci > 0.0 && n < cap) {
       const double w = widest_ci(sample).first;
