@@ -368,7 +368,12 @@ SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string
     for (size_t i = 0; i < dims.size(); ++i)
       for (size_t k = 0; k < dims[i].keys.size(); ++k) {
         const std::string& v = dims[i].values[entry[i]][k];
-        pt.cells.push_back(dims[i].cells[entry[i]][k]);
+        // A relative scene path as the point reads it (against the spec's directory), so the
+        // cell reruns the point from anywhere.
+        const std::string& cell = dims[i].cells[entry[i]][k];
+        pt.cells.push_back(dims[i].keys[k] == "scene.path" && !v.empty()
+                               ? absolute_scene_path(cell, spec_dir)
+                               : cell);
         if (v.empty()) continue;
         pt.overrides.push_back(dims[i].keys[k] + "=" + v);
         if (!is_cache_key(dims[i].keys[k])) job_key += pt.overrides.back() + "\n";

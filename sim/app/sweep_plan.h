@@ -25,7 +25,8 @@ namespace rtusim {
 
 struct SweepPoint {
   std::vector<std::string> overrides;  // KEY=VALUE (TOML), after the --set of the sweep
-  std::vector<std::string> cells;      // CSV text of each swept column, as in the spec
+  std::vector<std::string> cells;      // CSV text of each swept column, as in the spec (a
+                                       // relative scene.path made absolute)
   FetchCacheParams caches;             // the node L1 and data cache of the point
   std::string layout;                  // its one layout.kind
   // Run alone by simulate(), as `rtusim run` runs it: a timed tier (cycle, rtl), a sampled run,

@@ -87,6 +87,18 @@ head -1 "$tmp/modes/results.csv" | grep -q 'rays_simulated_per_second' && bad "m
 "$py" "$src/tests/cli/sweep_check.py" "$rtusim" "$tmp/modes" 1 \
   functional.rays_in_flight,functional.timed,sample.rate,layout.kind && ok || bad "modes: sweep differs from rtusim run"
 
+# 2c. A relative scene.path in a group: read against the spec's directory; its results.csv cell
+# is that path made absolute, so the point reruns from anywhere.
+scenes="${RTUSIM_SCENES:-$src/../shared/scenes}"
+if [ -f "$scenes/box/box.gltf" ]; then
+  mkdir -p "$tmp/rel" && ln -sfn "$scenes/box" "$tmp/rel/sub"
+  printf '[image]\nwidth = 16\nheight = 16\npng = false\n[sweep]\nl1.size = [4096, 8192]\n[[sweep.group.s]]\nscene.path = "sub/box.gltf"\n[[sweep.group.s]]\nscene.path = "builtin:cornell"\n' > "$tmp/rel/spec.toml"
+  (cd / && "$rtusim" sweep "$tmp/rel/spec.toml" --out "$tmp/relout" --no-plots > /dev/null) || bad "relative scene sweep failed"
+  grep -q "^$tmp/rel/sub/box.gltf," "$tmp/relout/results.csv" && ok || bad "relative scene: cell $(sed -n 2p "$tmp/relout/results.csv" | cut -d, -f1)"
+  (cd / && "$py" "$src/tests/cli/sweep_check.py" "$rtusim" "$tmp/relout" 1 scene.path,l1.size) \
+    && ok || bad "relative scene: sweep differs from rtusim run"
+fi
+
 # 3. Resume: killed (with its jobs) at several moments, then rerun: the same results.csv.
 cat > "$tmp/resume.toml" <<'TOML'
 [image]
@@ -163,7 +175,7 @@ expect_bad out_is_file 'results.csv: exists and is not a directory' "$tmp/setswe
 # named, and no directory left of a sweep that made it.
 printf '{ "asset": {"version": "2.0"}, "meshes": [ ' > "$tmp/broken.gltf"
 spec_with broken $'[[sweep.group.s]]\nscene.path = "broken.gltf"'
-expect_bad job_bad_scene 'broken.toml: \[sweep\] job 0 \(scene.path = broken.gltf\): scene.path: .*broken.gltf' "$tmp/broken.toml" "$tmp/none"
+expect_bad job_bad_scene 'broken.toml: \[sweep\] job 0 \(scene.path = /.*/broken.gltf\): scene.path: .*broken.gltf' "$tmp/broken.toml" "$tmp/none"
 [ -e "$tmp/none" ] && bad "a bad spec left $tmp/none" || ok
 # ... nor the parent directories it made for --out.
 expect_bad job_bad_scene_parents 'broken.toml: \[sweep\] job 0' "$tmp/broken.toml" "$tmp/made/for/it"
