@@ -19,6 +19,15 @@ struct Prepared {
   double scene_load_seconds = 0.0;
 };
 
+// The config's scene, loaded, and its camera, checked: the part of prepare_run that reads
+// files. Throws InputError on a scene or camera that does not do.
+struct SceneAndCamera {
+  Scene scene;
+  CameraDesc camera;
+  double load_seconds = 0.0;
+};
+SceneAndCamera load_scene_and_camera(const RunConfig& config);
+
 // Throws InputError on bad input (config, scene, camera).
 Prepared prepare_run(const std::string& config_path, const std::vector<std::string>& overrides);
 

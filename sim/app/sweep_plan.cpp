@@ -12,6 +12,7 @@
 
 #include <toml++/toml.h>
 
+#include "app/pipeline.h"
 #include "app/run_config.h"
 #include "config/config_reader.h"
 #include "tier/functional_tier.h"
@@ -357,6 +358,7 @@ SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string
   size_t total = 1;
   for (const Dim& d : dims) total *= d.values.size();
   std::map<std::string, size_t> job_of_key;
+  std::set<std::string> checked_scenes;
   for (size_t index = 0; index < total; ++index) {
     SweepPoint pt;
     std::vector<size_t> entry(dims.size());
@@ -394,6 +396,30 @@ SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string
                     0, error);
     }
     const RunConfig& c = *loaded;
+    // The scene and camera, which only loading the scene checks: each distinct one once, here,
+    // so that a scene that does not parse stops the sweep before anything runs.
+    std::ostringstream scene_key;
+    scene_key << std::hexfloat << c.scene.resolved << '\n' << c.scene.camera << '\n'
+              << c.scene_vfov_deg.value_or(0.0f);
+    if (c.camera)
+      for (const glm::vec3& v : {c.camera->eye, c.camera->target, c.camera->up})
+        scene_key << ' ' << v.x << ' ' << v.y << ' ' << v.z;
+    if (c.camera) scene_key << ' ' << c.camera->vfov_deg;
+    if (checked_scenes.insert(scene_key.str()).second) {
+      try {
+        load_scene_and_camera(c);
+      } catch (const InputError& ex) {
+        // Named by the swept value or entry that sets the scene or camera, else as the point.
+        const std::string error = inner_message(ex.what(), base_file.path(), sets);
+        for (size_t i = 0; i < dims.size(); ++i)
+          for (const std::string& k : dims[i].keys)
+            if (k.rfind("scene.", 0) == 0 || k.rfind("camera.", 0) == 0)
+              throw located(value_what(dims[i], entry[i]), dims[i].lines[entry[i]], error);
+        throw located("[sweep] point " + std::to_string(index) + " (" +
+                          describe(plan.columns, pt.cells) + ")",
+                      0, error);
+      }
+    }
     if (c.layout.kinds.size() != 1)
       throw InputError(spec_path + ": [sweep] point " + std::to_string(index) +
                        ": layout.kind: a point has one layout (sweep layout.kind instead)");

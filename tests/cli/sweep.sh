@@ -171,14 +171,17 @@ spec_with setswept 'l1.size = [1024, 2048]'
 expect_bad out_is_file 'results.csv: exists and is not a directory' "$tmp/setswept.toml" "$tmp/exact/results.csv"
 "$rtusim" sweep "$tmp/setswept.toml" --scheduler notanaddress --out "$tmp/none" --no-plots > /dev/null 2> "$tmp/stderr"
 [ $? -eq 2 ] && grep -q -- '--scheduler notanaddress: expected tcp://HOST:PORT' "$tmp/stderr" && ok || bad "bad_scheduler: $(cat "$tmp/stderr")"
-# Bad input found only when a job runs (a scene that does not parse): the spec and the job
-# named, and no directory left of a sweep that made it.
+# A scene that does not parse, or a camera it lacks: found before anything runs (each distinct
+# scene and camera loaded once), named by its entry's line, no directory left; the other entry
+# valid, so its job would have finished first.
 printf '{ "asset": {"version": "2.0"}, "meshes": [ ' > "$tmp/broken.gltf"
 spec_with broken $'[[sweep.group.s]]\nscene.path = "broken.gltf"'
-expect_bad job_bad_scene 'broken.toml: \[sweep\] job 0 \(scene.path = /.*/broken.gltf\): scene.path: .*broken.gltf' "$tmp/broken.toml" "$tmp/none"
+expect_bad bad_scene_before_running 'broken.toml:5: \[sweep.group.s\] scene.path = broken.gltf: scene.path: .*broken.gltf: cannot parse glTF' "$tmp/broken.toml" "$tmp/none"
 [ -e "$tmp/none" ] && bad "a bad spec left $tmp/none" || ok
 # ... nor the parent directories it made for --out.
-expect_bad job_bad_scene_parents 'broken.toml: \[sweep\] job 0' "$tmp/broken.toml" "$tmp/made/for/it"
+expect_bad bad_scene_parents 'broken.toml:5: ' "$tmp/broken.toml" "$tmp/made/for/it"
+spec_with nocam $'[[sweep.group.s]]\nscene.path = "builtin:cornell"\n[[sweep.group.s]]\nscene.path = "builtin:cornell"\nscene.camera = "nowhere"'
+expect_bad bad_camera_before_running "nocam.toml:7: \\[sweep.group.s\\] scene.camera = nowhere, scene.path = builtin:cornell: scene.camera: no camera node 'nowhere'" "$tmp/nocam.toml" "$tmp/none"
 [ -e "$tmp/made" ] && bad "a bad spec left $tmp/made" || ok
 # The user's own --set is named as such; a table --set around a swept key counts as setting it;
 # integers are one value however written.
