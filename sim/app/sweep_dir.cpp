@@ -62,6 +62,7 @@ std::string json_cell(const nlohmann::json& v) {
 }  // namespace
 
 SweepDir::SweepDir(fs::path dir, const SweepPlan& plan) : dir_(std::move(dir)) {
+  for (const SweepJob& j : plan.jobs) job_points_.push_back(j.points);
   const fs::path id_file = dir_ / "sweep.json";
   std::error_code ec;
   if (fs::exists(dir_, ec) && !fs::is_directory(dir_, ec))
@@ -95,7 +96,23 @@ fs::path SweepDir::job_file(size_t job) const {
 fs::path SweepDir::log_file(size_t job) const {
   return dir_ / "logs" / (std::to_string(job) + ".log");
 }
-bool SweepDir::job_done(size_t job) const { return fs::exists(job_file(job)); }
+bool SweepDir::job_done(size_t job) const {
+  std::error_code ec;
+  if (!fs::is_regular_file(job_file(job), ec)) return false;
+  try {
+    const nlohmann::json j = nlohmann::json::parse(read_text(job_file(job)));
+    const nlohmann::json& rows = j.at("rows");
+    if (!rows.is_object() || rows.size() != job_points_.at(job).size() ||
+        !j.at("seconds").is_number() || !j.at("points").is_number())
+      return false;
+    for (const size_t point : job_points_.at(job))
+      if (!rows.contains(std::to_string(point)) || !rows[std::to_string(point)].is_object())
+        return false;
+    return true;
+  } catch (const std::exception&) {  // not JSON, or a key missing: not done
+    return false;
+  }
+}
 
 void SweepDir::write_job(size_t job, const nlohmann::json& rows) const {
   write_file_atomically(job_file(job), rows.dump() + "\n");

@@ -3,11 +3,13 @@
 //   base.toml    the base config every point runs on
 //   jobs/K.json  the rows of finished job K, each written atomically (OutputFile)
 //   logs/K.log   what job K printed;  results.csv, timings.csv  when every job is done
-// A rerun with the same spec skips the jobs whose file exists; a different spec in a directory
-// that holds a sweep is an InputError.
+// A rerun with the same spec skips the jobs whose file holds a row for each of their points (a
+// damaged or partial file is run again); a different spec in a directory that holds a sweep is
+// an InputError.
 #pragma once
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -24,7 +26,7 @@ class SweepDir {
   std::string base_config() const { return (dir_ / "base.toml").string(); }
   std::filesystem::path job_file(size_t job) const;
   std::filesystem::path log_file(size_t job) const;
-  bool job_done(size_t job) const;
+  bool job_done(size_t job) const;  // its file holds a row for each of its points
   void write_job(size_t job, const nlohmann::json& rows) const;
 
   // results.csv (one row per point: the swept keys, then every stats key in sorted order) and
@@ -33,6 +35,7 @@ class SweepDir {
 
  private:
   std::filesystem::path dir_;
+  std::vector<std::vector<size_t>> job_points_;  // each job's points, from the plan
 };
 
 }  // namespace rtusim

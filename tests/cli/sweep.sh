@@ -126,6 +126,18 @@ for delay in 0.05 0.3 0.6 0.9 1.4; do
   "$rtusim" sweep "$tmp/resume.toml" --out "$tmp/killed" --no-plots > /dev/null || bad "resume after $delay s failed"
   cmp -s "$tmp/whole/results.csv" "$tmp/killed/results.csv" && ok || bad "resume after $delay s: results.csv differs"
 done
+# Damaged job files (cut short, a row removed, empty JSON) are run again, not an internal error.
+cp -r "$tmp/whole" "$tmp/damaged" && rm "$tmp/damaged/results.csv"
+head -c 40 "$tmp/whole/jobs/0.json" > "$tmp/damaged/jobs/0.json"
+echo '{}' > "$tmp/damaged/jobs/1.json"
+python3 - "$tmp/damaged/jobs/2.json" <<'PY'
+import json, sys
+j = json.load(open(sys.argv[1]))
+j["rows"].pop(next(iter(j["rows"])))
+json.dump(j, open(sys.argv[1], "w"))
+PY
+"$rtusim" sweep "$tmp/resume.toml" --out "$tmp/damaged" --no-plots > /dev/null 2> "$tmp/stderr" \
+  && cmp -s "$tmp/whole/results.csv" "$tmp/damaged/results.csv" && ok || bad "damaged job files: $(cat "$tmp/stderr")"
 
 # 4. A changed spec in a directory holding a sweep; bad specs. Exit 2, one line, no output.
 expect_bad() {
