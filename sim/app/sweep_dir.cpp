@@ -147,7 +147,8 @@ void SweepDir::write_results(const SweepPlan& plan) const {
   for (size_t i = 0; i < rows.size(); ++i) {
     if (rows[i].is_null()) throw std::runtime_error("sweep: no row for point " + std::to_string(i));
     std::vector<std::string> fields = plan.points[i].cells;
-    for (const auto& k : stats_keys) fields.push_back(rows[i].contains(k) ? json_cell(rows[i][k]) : "");
+    for (const auto& k : stats_keys)
+      fields.push_back(rows[i].contains(k) ? json_cell(rows[i][k]) : "");
     csv << csv_line(fields);
   }
   write_file_atomically(dir_ / "results.csv", csv.str());

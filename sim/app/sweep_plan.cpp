@@ -95,7 +95,8 @@ std::vector<Dim> read_dims(const toml::table& sweep, const std::string& spec,
   const auto at = [&](uint32_t line) { return spec + ":" + std::to_string(line); };
   const auto set_text = [&](const std::string& key, const toml::node& v) {
     if (key == "scene.path" && v.is_string())
-      return value_text(toml::value<std::string>(absolute_scene_path(v.as_string()->get(), spec_dir)));
+      return value_text(
+          toml::value<std::string>(absolute_scene_path(v.as_string()->get(), spec_dir)));
     if (const auto* i = v.as_integer())  // 0x2000 and 8192 are one value
       return value_text(toml::value<int64_t>(i->get()));
     return value_text(v);
@@ -113,8 +114,9 @@ std::vector<Dim> read_dims(const toml::table& sweep, const std::string& spec,
       const std::string where = spec + ": [sweep.group." + std::string(name.str()) + "]";
       const auto* arr = entries.as_array();
       if (!arr || !arr->is_array_of_tables())
-        throw InputError(where + ": expected [[sweep.group." + std::string(name.str()) +
-                         "]] entries (tables of keys set together)");
+        throw InputError(at(entries.source().begin.line) + ": [sweep.group." +
+                         std::string(name.str()) + "]: expected [[sweep.group." +
+                         std::string(name.str()) + "]] entries (tables of keys set together)");
       if (arr->empty()) throw InputError(where + ": empty group");
       Dim d;
       d.name = "group." + std::string(name.str());
@@ -147,7 +149,8 @@ std::vector<Dim> read_dims(const toml::table& sweep, const std::string& spec,
       throw InputError(at(node->source().begin.line) + ": [sweep] " + key + " = " +
                        value_text(*node) + ": expected a list of values, got " + type_name(*node));
     if (arr->empty())
-      throw InputError(at(node->source().begin.line) + ": [sweep] " + key + ": empty list of values");
+      throw InputError(at(node->source().begin.line) + ": [sweep] " + key +
+                       ": empty list of values");
     Dim d;
     d.name = key;
     d.keys = {key};
@@ -420,9 +423,13 @@ SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string
                       0, error);
       }
     }
-    if (c.layout.kinds.size() != 1)
-      throw InputError(spec_path + ": [sweep] point " + std::to_string(index) +
-                       ": layout.kind: a point has one layout (sweep layout.kind instead)");
+    if (c.layout.kinds.size() != 1) {
+      const std::string error = "layout.kind: a point has one layout (sweep layout.kind instead)";
+      for (size_t i = 0; i < dims.size(); ++i)
+        if (std::count(dims[i].keys.begin(), dims[i].keys.end(), "layout.kind") != 0)
+          throw located(value_what(dims[i], entry[i]), dims[i].lines[entry[i]], error);
+      throw located("[sweep] point " + std::to_string(index), 0, error);
+    }
     pt.caches = c.fetch_caches();
     pt.layout = c.layout.kinds.front();
     pt.alone = c.sim.tier != FunctionalTier::kName || c.sample.active() ||

@@ -170,6 +170,10 @@ spec_with apart $'l1.assoc = [3, "full"]\nl1.size = [3072, 8192]'
 expect_bad value_with_another 'apart.toml:5: \[sweep\] l1.assoc = 3: l1.size: 8192 is not a multiple of l1.line x l1.assoc' "$tmp/apart.toml" "$tmp/none"
 spec_with scene $'[[sweep.group.s]]\nscene.path = "nowhere.gltf"'
 expect_bad missing_scene 'scene.toml:5: \[sweep.group.s\] scene.path = nowhere.gltf: scene.path: .*nowhere.gltf not found' "$tmp/scene.toml" "$tmp/none"
+spec_with layouts $'l1.size = [1024]\n[[sweep.group.g]]\nlayout.kind = ["dfl", "odfl"]'
+expect_bad point_with_layouts 'layouts.toml:6: \[sweep.group.g\] layout.kind = .*: layout.kind: a point has one layout' "$tmp/layouts.toml" "$tmp/none"
+spec_with notgroup $'l1.size = [1024]\n[sweep.group]\ng = 3'
+expect_bad group_not_entries 'notgroup.toml:7: \[sweep.group.g\]: expected \[\[sweep.group.g\]\] entries' "$tmp/notgroup.toml" "$tmp/none"
 printf '[image]\nwidth = 16\n' > "$tmp/nosweep.toml"
 expect_bad no_sweep_table 'nosweep.toml: \[sweep\]: missing' "$tmp/nosweep.toml" "$tmp/none"
 spec_with twice $'l1.size = [1024]\n[[sweep.group.a]]\nl1.size = 2048'
