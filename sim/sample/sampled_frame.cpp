@@ -221,7 +221,9 @@ void SampledFrame::finish_layout(FrameResult& frame, Stats& stats) const {
   for (const auto& [key, values] : sample.values) {
     const Estimate e = estimate(sample, values);
     stats.set(key, e.value);
-    stats.set(key + ".ci95_low", e.ci_low());
+    // Every figure here is a count, never below zero: so is its interval (a paired difference's
+    // below may be negative).
+    stats.set(key + ".ci95_low", std::max(0.0, e.ci_low()));
     stats.set(key + ".ci95_high", e.ci_high());
   }
   if (order_ == RayOrder::kWavefront) {

@@ -119,6 +119,18 @@ for bad in "sample.method=pixels" "sample.rate=0" "sample.warmup=detailed" "samp
   [ $rc -eq 2 ] && [ "$(wc -l < "$tmp/bad.err")" -eq 1 ] && grep -q "${bad%%=*}" "$tmp/bad.err" && [ ! -e "$tmp/bad/stats.json" ] \
     || { echo "FAIL $bad: exit $rc"; cat "$tmp/bad.err"; exit 1; }
 done
+# Few units with a heavy tail (single random pixels of an 8x8 frame): a count's interval stops
+# at zero, a paired difference's may go below.
+"$rtusim" run "$src/configs/default.toml" --set image.width=8 --set image.height=8 \
+  --set sample.method=random --set sample.unit_pixels=1 --set sample.rate=0.3 \
+  --set 'layout.kind=["dfl","odfl"]' --set image.png=false --out "$tmp/few" > /dev/null 2>&1
+python3 - "$tmp/few/stats.json" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[1]))
+lows = {k: v for k, v in s.items() if k.endswith(".ci95_low") and not k.startswith("sample.diff.")}
+assert lows and min(lows.values()) >= 0, sorted(lows.items(), key=lambda kv: kv[1])[:3]
+assert 0 in lows.values(), "no interval reached zero: the case no longer tests the floor"
+PY
 # Interleaved functional mode.
 w=(--set image.width=48 --set image.height=40 --set tracer.ray_order=wavefront)
 "$rtusim" run "$src/configs/default.toml" "${w[@]}" --out "$tmp/f" > /dev/null
