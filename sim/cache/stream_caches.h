@@ -109,6 +109,13 @@ class FetchCache {
     });
   }
 
+  // A miss of stream `s` that the timed mode found merged into a read of its line already
+  // outstanding (the tags had lost the line while its MSHR was busy): counted as a miss, as the
+  // unit's L1 counts it, but DRAM reads the line once, so its `bytes` are not DRAM's.
+  void refund_merged_miss(Stream s, uint64_t bytes) {
+    counters_[static_cast<int>(s)].dram_bytes -= bytes;
+  }
+
   const StreamCounters& stream(Stream s) const { return counters_[static_cast<int>(s)]; }
   uint64_t dram_bytes_total() const { return dram_bytes_total(counters_); }
   static uint64_t dram_bytes_total(const Counters& c) {

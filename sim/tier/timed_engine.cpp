@@ -98,6 +98,12 @@ bool TimedEngine::decide_lookup(L1Timing& l1, Lookup& q, uint64_t& answer) {
       if (match != mshrs) {
         l1.port_free = c + 1;
         ++l1.merged;
+        if (!q.in_tags) {  // the cache counted a miss and its DRAM bytes: DRAM reads it once
+          const uint64_t bytes = l1.line_size.divisor();
+          caches_->refund_merged_miss(q.stream, bytes);
+          Slot& s = slots_[q.slot];
+          s.dram_bytes -= std::min(s.dram_bytes, bytes);
+        }
         answer = l1.mshr_fill[match];
         if (answer == kUnknown) {
           answer = kWaits;
@@ -291,6 +297,7 @@ void TimedEngine::close_window(uint64_t t, const FetchCache& caches, const Charg
 
 void TimedEngine::time(const RayStepLog& log, bool last, FetchCache& caches,
                        const Charge& charge) {
+  caches_ = &caches;
   caches.with_inlined_node_l1([&](auto& sink) {
     std::visit([&](auto& events) { run(log, last, sink, events, caches, charge); }, events_);
   });

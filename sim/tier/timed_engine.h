@@ -2,7 +2,9 @@
 // rays in flight take their traversal steps in the order of a cheap, SystemC-free model of the
 // unit's timing, not in strict turns, so rays whose nodes hit overtake rays that wait for DRAM
 // as in the cycle tier. The caches' hit/miss state and byte counts stay the functional tier's
-// (FetchCache); the model only decides the order of the accesses and when each ray finishes.
+// (FetchCache); the model only decides the order of the accesses and when each ray finishes,
+// but for one thing: a miss it merges into an outstanding read of its line (the tags had lost
+// the line meanwhile) costs no DRAM bytes, as in the unit's L1 (DRAM bytes = primary misses).
 //
 // The model, in cycles of the unit's clock, from the cycle tier's own keys (CycleParams):
 //  - each ray in flight has a next event (cycle, slot); the earliest goes first (ties: events
@@ -218,6 +220,7 @@ class TimedEngine {
   uint64_t decision_cycle_ = kUnknown;  // the last cycle at or before it (kUnknown: never)
   std::vector<DramCompletion> done_;  // scratch: a decision's completions
   std::vector<Slot> slots_;
+  FetchCache* caches_ = nullptr;  // the caches of the log being timed (merged misses' refunds)
   // Each busy slot's next event, in EventWheel's order: a wheel up to 128 slots, else the tree.
   std::variant<SlotEventWheel<1>, SlotEventWheel<2>, SlotEventTree> events_;
   uint64_t step_free_ = 0;           // the step pipeline's next free cycle
