@@ -348,14 +348,14 @@ void RtlL1Adapter::run() {
     // just told a fill for the next edge, from the middle of the cycle under way.
     for (uint64_t c = now_ps() / period_;; ++c) {
       drive_cycle(c);
-      const uint64_t edge = (c + 1) * period_;
+      const uint64_t edge_ps = (c + 1) * period_;
       if (vcd_) {  // a clock that looks like one: falling mid-cycle
-        const uint64_t fall = c * period_ + period_ / 2;
-        if (fall > now_ps()) wait(ps(fall - now_ps()));
+        const uint64_t fall_ps = c * period_ + period_ / 2;
+        if (fall_ps > now_ps()) wait(ps(fall_ps - now_ps()));
         clk_.write(false);
       }
-      wait(ps(edge - now_ps()));
-      sample(edge);
+      wait(ps(edge_ps - now_ps()));
+      sample(edge_ps);
       clk_.write(true);
       wait(sc_core::SC_ZERO_TIME);  // the RTL evaluates the edge
       if (!vcd_) clk_.write(false);  // falls a delta later: one timed wait per cycle, not two

@@ -14,19 +14,23 @@ root=${1:?usage: scripts/fresh_debian.sh ROOTDIR [--ci]}
 ci=${2:-}
 [ "$(id -u)" -eq 0 ] || { echo "fresh_debian: run as root (chroot, mounts)" >&2; exit 2; }
 [ -e "$root" ] && { echo "fresh_debian: $root exists; give a new directory" >&2; exit 2; }
-command -v debootstrap > /dev/null || { echo "fresh_debian: needs debootstrap (apt-get install debootstrap)" >&2; exit 2; }
+command -v debootstrap > /dev/null ||
+  { echo "fresh_debian: needs debootstrap (apt-get install debootstrap)" >&2; exit 2; }
 shared=$(cd .. && pwd)/shared
 [ -d "$shared" ] || { echo "fresh_debian: no $shared (the scenes)" >&2; exit 2; }
 
 debootstrap --variant=minbase bookworm "$root" http://deb.debian.org/debian \
-  > "$root.debootstrap.log" 2>&1 || { echo "fresh_debian: debootstrap failed: see $root.debootstrap.log" >&2; exit 1; }
+  > "$root.debootstrap.log" 2>&1 ||
+  { echo "fresh_debian: debootstrap failed: see $root.debootstrap.log" >&2; exit 1; }
 mounts=()
-cleanup() { for ((i = ${#mounts[@]} - 1; i >= 0; i--)); do umount -l "${mounts[$i]}" || true; done; }
+cleanup() {
+  for ((i = ${#mounts[@]} - 1; i >= 0; i--)); do umount -l "${mounts[$i]}" || true; done
+}
 trap cleanup EXIT
-mount -t proc proc "$root/proc" && mounts+=("$root/proc")
-mount --rbind /dev "$root/dev" && mounts+=("$root/dev")
+mount -t proc proc "$root/proc"; mounts+=("$root/proc")  # set -e: a failed mount stops here
+mount --rbind /dev "$root/dev"; mounts+=("$root/dev")
 mkdir -p "$root/root/shared"
-mount --bind -o ro "$shared" "$root/root/shared" && mounts+=("$root/root/shared")
+mount --bind -o ro "$shared" "$root/root/shared"; mounts+=("$root/root/shared")
 cp /etc/resolv.conf "$root/etc/resolv.conf"
 # A proxy's own certificate authority, where this host trusts one (not Debian's default).
 if compgen -G "/usr/local/share/ca-certificates/*.crt" > /dev/null; then

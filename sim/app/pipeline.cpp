@@ -2,7 +2,6 @@
 #include "app/pipeline.h"
 
 #include <chrono>
-#include <utility>
 
 #include "app/profile_training.h"
 #include "kdtree/sah_builder.h"
@@ -40,35 +39,36 @@ CameraDesc select_camera(const RunConfig& config, const Scene& scene) {
   return c;
 }
 
-SceneAndCamera load_scene_and_camera(const RunConfig& config) {
-  SceneAndCamera s;
-  const auto t0 = std::chrono::steady_clock::now();
+Scene load_config_scene(const RunConfig& config) {
   try {
-    s.scene = load_scene(config.scene.resolved);
+    return load_scene(config.scene.resolved);
   } catch (const InputError& e) {
     throw InputError(config.origins.at("scene.path") + ": scene.path: " + e.what());
   }
-  s.load_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  s.camera = select_camera(config, s.scene);
+}
+
+CameraDesc checked_camera(const RunConfig& config, const Scene& scene) {
+  const CameraDesc camera = select_camera(config, scene);
   // A camera of the config is named by its key at fault; a scene's by scene.camera.
-  if (const CameraProblem bad = camera_problem(s.camera); !bad.field.empty()) {
+  if (const CameraProblem bad = camera_problem(camera); !bad.field.empty()) {
     if (config.camera) {
       const std::string key = "camera." + bad.field;
       throw InputError(config.origins.at(key) + ": " + key + ": " + bad.what);
     }
-    throw InputError(config.origins.at("scene.camera") + ": scene.camera: " + s.camera.name +
+    throw InputError(config.origins.at("scene.camera") + ": scene.camera: " + camera.name +
                      ": " + bad.what);
   }
-  return s;
+  return camera;
 }
 
 Prepared prepare_run(const std::string& config_path, const std::vector<std::string>& overrides) {
   Prepared p;
   p.config = load_run_config(config_path, overrides);
-  SceneAndCamera s = load_scene_and_camera(p.config);
-  p.scene = std::move(s.scene);
-  p.camera = s.camera;
-  p.scene_load_seconds = s.load_seconds;
+  const auto t0 = std::chrono::steady_clock::now();
+  p.scene = load_config_scene(p.config);
+  p.scene_load_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  p.camera = checked_camera(p.config, p.scene);
   p.tree = build_sah_kd_tree(p.scene, p.config.kdtree);
   for (const auto& kind : p.config.layout.kinds) {
     const std::unique_ptr<Layout> layout = make_layout(kind);

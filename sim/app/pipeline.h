@@ -19,14 +19,13 @@ struct Prepared {
   double scene_load_seconds = 0.0;
 };
 
-// The config's scene, loaded, and its camera, checked: the part of prepare_run that reads
-// files. Throws InputError on a scene or camera that does not do.
-struct SceneAndCamera {
-  Scene scene;
-  CameraDesc camera;
-  double load_seconds = 0.0;
-};
-SceneAndCamera load_scene_and_camera(const RunConfig& config);
+// The config's scene (scene.path), loaded. Throws InputError naming scene.path and where it
+// was set on a scene that does not load.
+Scene load_config_scene(const RunConfig& config);
+
+// The camera the config asks for in `scene` (select_camera), checked (camera_problem). Throws
+// InputError naming the key at fault and where it was set.
+CameraDesc checked_camera(const RunConfig& config, const Scene& scene);
 
 // Throws InputError on bad input (config, scene, camera).
 Prepared prepare_run(const std::string& config_path, const std::vector<std::string>& overrides);

@@ -76,7 +76,8 @@ int sweep_command() {
   namespace fs = std::filesystem;
   SweepOptions o = options();
   const auto t0 = std::chrono::steady_clock::now();
-  const SweepPlan plan = plan_sweep(o.run.spec, o.run.sets);
+  // A runner's job plans again without loading scenes: the sweep checked them once.
+  const SweepPlan plan = plan_sweep(o.run.spec, o.run.sets, /*check_scenes=*/o.group < 0);
   if (o.group >= 0 && static_cast<size_t>(o.group) >= plan.jobs.size())
     throw InputError("--group " + std::to_string(o.group) + ": the sweep has " +
                      std::to_string(plan.jobs.size()) + " jobs");

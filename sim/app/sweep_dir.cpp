@@ -105,9 +105,11 @@ bool SweepDir::job_done(size_t job) const {
     if (!rows.is_object() || rows.size() != job_points_.at(job).size() ||
         !j.at("seconds").is_number() || !j.at("points").is_number())
       return false;
-    for (const size_t point : job_points_.at(job))
-      if (!rows.contains(std::to_string(point)) || !rows[std::to_string(point)].is_object())
+    for (const size_t point : job_points_.at(job)) {  // every run writes dram.bytes.total
+      const auto row = rows.find(std::to_string(point));
+      if (row == rows.end() || !row->is_object() || !row->contains("dram.bytes.total"))
         return false;
+    }
     return true;
   } catch (const std::exception&) {  // not JSON, or a key missing: not done
     return false;

@@ -222,7 +222,8 @@ std::string inner_message(const std::string& what, const std::string& base_path,
 
 }  // namespace
 
-SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string>& user_sets) {
+SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string>& user_sets,
+                     bool check_scenes) {
   SweepPlan plan;
   plan.spec_path = spec_path;
   {
@@ -282,8 +283,8 @@ SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string
                    " (its [sweep] table removed, the --set applied)\n" + os.str() + "\n";
   const TempFile base_file(plan.base_toml);
 
-  // Loads one point's config; errors name the spec (with the line of the value or entry, when
-  // one is at fault alone) and what the point sets.
+  // Loads a config of the sweep (the base with `overrides`); its errors are the config's, which
+  // located() places in the spec: at the line of a value or entry, or as a point or the base.
   const auto load_config = [&](const std::vector<std::string>& overrides) {
     RunConfig c = load_run_config(base_file.path(), overrides);
     if (c.scene.resolved.rfind("builtin:", 0) != 0 && !fs::exists(c.scene.resolved))
@@ -294,6 +295,7 @@ SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string
     return InputError(spec_path + (line ? ":" + std::to_string(line) : "") + ": " + what + ": " +
                       inner);
   };
+  // The base config's load, its errors placed as `what`.
   const auto load = [&](const std::vector<std::string>& overrides, const std::string& what,
                         uint32_t line = 0) {
     try {
@@ -361,7 +363,8 @@ SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string
   size_t total = 1;
   for (const Dim& d : dims) total *= d.values.size();
   std::map<std::string, size_t> job_of_key;
-  std::set<std::string> checked_scenes;
+  std::set<std::string> checked_cameras;
+  std::map<std::string, Scene> scenes;  // by resolved path
   for (size_t index = 0; index < total; ++index) {
     SweepPoint pt;
     std::vector<size_t> entry(dims.size());
@@ -385,51 +388,53 @@ SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string
       }
     std::vector<std::string> all = sets;
     all.insert(all.end(), pt.overrides.begin(), pt.overrides.end());
+    // An error of this point, named by the swept value or entry whose own error it is; else,
+    // `by_key` (an error that only the whole point shows, about one key: its scene, camera or
+    // layout), by the value or entry that sets that key, or the base config when none does;
+    // else as the point (a combination of its values).
+    const auto point_error = [&](const std::string& error, bool by_key) {
+      for (size_t i = 0; i < dims.size(); ++i)
+        if (alone_error[i][entry[i]] == error)
+          return located(value_what(dims[i], entry[i]), dims[i].lines[entry[i]], error);
+      const std::string point =
+          "[sweep] point " + std::to_string(index) + " (" + describe(plan.columns, pt.cells) + ")";
+      if (!by_key) return located(point, 0, error);
+      const std::string key = error.substr(0, error.find(": "));
+      for (size_t i = 0; i < dims.size(); ++i)
+        for (size_t k = 0; k < dims[i].keys.size(); ++k)
+          if (dims[i].keys[k] == key && !dims[i].values[entry[i]][k].empty())
+            return located(value_what(dims[i], entry[i]), dims[i].lines[entry[i]], error);
+      return located(point + ", from the base config", 0, error);
+    };
     std::optional<RunConfig> loaded;
     try {
       loaded = load_config(all);
     } catch (const InputError& ex) {
-      // Named by the value whose own error this is, else as the point.
-      const std::string error = inner_message(ex.what(), base_file.path(), sets);
-      for (size_t i = 0; i < dims.size(); ++i)
-        if (alone_error[i][entry[i]] == error)
-          throw located(value_what(dims[i], entry[i]), dims[i].lines[entry[i]], error);
-      throw located("[sweep] point " + std::to_string(index) + " (" +
-                        describe(plan.columns, pt.cells) + ")",
-                    0, error);
+      throw point_error(inner_message(ex.what(), base_file.path(), sets), false);
     }
     const RunConfig& c = *loaded;
-    // The scene and camera, which only loading the scene checks: each distinct one once, here,
-    // so that a scene that does not parse stops the sweep before anything runs.
-    std::ostringstream scene_key;
-    scene_key << std::hexfloat << c.scene.resolved << '\n' << c.scene.camera << '\n'
-              << c.scene_vfov_deg.value_or(0.0f);
-    if (c.camera)
-      for (const glm::vec3& v : {c.camera->eye, c.camera->target, c.camera->up})
-        scene_key << ' ' << v.x << ' ' << v.y << ' ' << v.z;
-    if (c.camera) scene_key << ' ' << c.camera->vfov_deg;
-    if (checked_scenes.insert(scene_key.str()).second) {
-      try {
-        load_scene_and_camera(c);
-      } catch (const InputError& ex) {
-        // Named by the swept value or entry that sets the scene or camera, else as the point.
-        const std::string error = inner_message(ex.what(), base_file.path(), sets);
-        for (size_t i = 0; i < dims.size(); ++i)
-          for (const std::string& k : dims[i].keys)
-            if (k.rfind("scene.", 0) == 0 || k.rfind("camera.", 0) == 0)
-              throw located(value_what(dims[i], entry[i]), dims[i].lines[entry[i]], error);
-        throw located("[sweep] point " + std::to_string(index) + " (" +
-                          describe(plan.columns, pt.cells) + ")",
-                      0, error);
+    // The scene and camera, which only loading the scene checks, so that a scene that does not
+    // load stops the sweep before anything runs: each scene loaded once, each camera checked
+    // once (not again in the runners' jobs, which plan with check_scenes false).
+    if (check_scenes) {
+      std::ostringstream camera_key;
+      camera_key << std::hexfloat << c.scene.resolved << '\n' << c.scene.camera << '\n'
+                 << c.scene_vfov_deg.value_or(0.0f);
+      if (c.camera)
+        for (const glm::vec3& v : {c.camera->eye, c.camera->target, c.camera->up})
+          camera_key << ' ' << v.x << ' ' << v.y << ' ' << v.z << ' ' << c.camera->vfov_deg;
+      if (checked_cameras.insert(camera_key.str()).second) {
+        try {
+          auto it = scenes.find(c.scene.resolved);
+          if (it == scenes.end()) it = scenes.emplace(c.scene.resolved, load_config_scene(c)).first;
+          checked_camera(c, it->second);
+        } catch (const InputError& ex) {
+          throw point_error(inner_message(ex.what(), base_file.path(), sets), true);
+        }
       }
     }
-    if (c.layout.kinds.size() != 1) {
-      const std::string error = "layout.kind: a point has one layout (sweep layout.kind instead)";
-      for (size_t i = 0; i < dims.size(); ++i)
-        if (std::count(dims[i].keys.begin(), dims[i].keys.end(), "layout.kind") != 0)
-          throw located(value_what(dims[i], entry[i]), dims[i].lines[entry[i]], error);
-      throw located("[sweep] point " + std::to_string(index), 0, error);
-    }
+    if (c.layout.kinds.size() != 1)
+      throw point_error("layout.kind: a point has one layout (sweep layout.kind instead)", true);
     pt.caches = c.fetch_caches();
     pt.layout = c.layout.kinds.front();
     pt.alone = c.sim.tier != FunctionalTier::kName || c.sample.active() ||

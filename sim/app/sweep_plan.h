@@ -12,8 +12,8 @@
 // --set …` runs. Plain functional points that differ only in cache keys and layout.kind form one
 // job (one prepared scene and tree, one traced frame per layout for all their caches); every
 // other point (a timed tier, sampled, the functional tier's interleaved or timed mode) is its
-// own job. Every point is validated by load_run_config before anything
-// runs; errors name the spec file, the key and the value.
+// own job. Before anything runs every point is validated by load_run_config, and each distinct
+// scene and camera is loaded and checked; errors name the spec file, the key and the value.
 #pragma once
 #include <cstddef>
 #include <string>
@@ -51,8 +51,11 @@ struct SweepPlan {
   std::vector<SweepJob> jobs;        // in order of their first point
 };
 
-// Reads, expands and validates the spec. Throws InputError naming the spec, key and value.
-SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string>& sets);
+// Reads, expands and validates the spec: every point's config and, with `check_scenes`, every
+// scene it loads and camera it asks for (the runners' jobs plan again without). Throws
+// InputError naming the spec, key and value.
+SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string>& sets,
+                     bool check_scenes = true);
 
 // The message of bad input that job `job` met when it ran (`what`, about its base config
 // `base_path` or the --set that applied a point's key), naming the spec and the keys the job's

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # scripts/interleave_bias.py on a small frame of the built-in room under two names: one CSV per
 # name, its rows the runs' own stats; with one ray in flight every mode is the functional tier
-# and equals the cycle tier's node bytes. Bad arguments: one line, exit 2, nothing written.
+# and equals the cycle tier's node bytes. Bad --names: exit 2 naming the problem, nothing written.
 set -euo pipefail
 rtusim=$1; src=$2
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT

@@ -143,7 +143,6 @@ for y in range(H):
             assert same, (x, y)
 assert white < W * H, "ODFL and DFL differ somewhere"
 PY
-echo "run_default: 1 passed, 0 failed"
 # sim.vcd in the functional tier: no file, and a note that says so (exit 0).
 "$rtusim" run "$src/configs/default.toml" "${small[@]}" --set sim.vcd="$tmp/f.vcd" --out "$tmp/v" \
   > /dev/null 2> "$tmp/v.err"
@@ -167,3 +166,4 @@ rc=$?
 set -e
 [ $rc -eq 2 ] && grep -q "camera.eye and camera.target are both required" "$tmp/up.err" && [ ! -e "$tmp/up" ] \
   || { echo "FAIL: camera.up alone: exit $rc: $(cat "$tmp/up.err")"; exit 1; }
+echo "run_default: 1 passed, 0 failed"

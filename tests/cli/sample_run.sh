@@ -123,8 +123,8 @@ done
 # at zero, a paired difference's may go below.
 "$rtusim" run "$src/configs/default.toml" --set image.width=8 --set image.height=8 \
   --set sample.method=random --set sample.unit_pixels=1 --set sample.rate=0.3 \
-  --set 'layout.kind=["dfl","odfl"]' --set image.png=false --out "$tmp/few" > /dev/null 2>&1
-python3 - "$tmp/few/stats.json" <<'PY'
+  --set 'layout.kind=["dfl","odfl"]' --set image.png=false --out "$tmp/floor" > /dev/null 2>&1
+python3 - "$tmp/floor/stats.json" <<'PY'
 import json, sys
 s = json.load(open(sys.argv[1]))
 lows = {k: v for k, v in s.items() if k.endswith(".ci95_low") and not k.startswith("sample.diff.")}

@@ -89,15 +89,12 @@ head -1 "$tmp/modes/results.csv" | grep -q 'rays_simulated_per_second' && bad "m
 
 # 2c. A relative scene.path in a group: read against the spec's directory; its results.csv cell
 # is that path made absolute, so the point reruns from anywhere.
-scenes="${RTUSIM_SCENES:-$src/../shared/scenes}"
-if [ -f "$scenes/box/box.gltf" ]; then
-  mkdir -p "$tmp/rel" && ln -sfn "$scenes/box" "$tmp/rel/sub"
-  printf '[image]\nwidth = 16\nheight = 16\npng = false\n[sweep]\nl1.size = [4096, 8192]\n[[sweep.group.s]]\nscene.path = "sub/box.gltf"\n[[sweep.group.s]]\nscene.path = "builtin:cornell"\n' > "$tmp/rel/spec.toml"
-  (cd / && "$rtusim" sweep "$tmp/rel/spec.toml" --out "$tmp/relout" --no-plots > /dev/null) || bad "relative scene sweep failed"
-  grep -q "^$tmp/rel/sub/box.gltf," "$tmp/relout/results.csv" && ok || bad "relative scene: cell $(sed -n 2p "$tmp/relout/results.csv" | cut -d, -f1)"
-  (cd / && "$py" "$src/tests/cli/sweep_check.py" "$rtusim" "$tmp/relout" 1 scene.path,l1.size) \
-    && ok || bad "relative scene: sweep differs from rtusim run"
-fi
+mkdir -p "$tmp/rel/sub" && python3 "$src/tests/cli/make_bad_inputs.py" "$tmp/rel/sub" > /dev/null
+printf '[image]\nwidth = 16\nheight = 16\npng = false\n[camera]\neye = [0.2, 0.2, 2]\ntarget = [0.2, 0.2, 0]\n[sweep]\nl1.size = [4096, 8192]\n[[sweep.group.s]]\nscene.path = "sub/good.gltf"\n[[sweep.group.s]]\nscene.path = "builtin:cornell"\n' > "$tmp/rel/spec.toml"
+(cd / && "$rtusim" sweep "$tmp/rel/spec.toml" --out "$tmp/relout" --no-plots > /dev/null) || bad "relative scene sweep failed"
+grep -q "^$tmp/rel/sub/good.gltf," "$tmp/relout/results.csv" && ok || bad "relative scene: cell $(sed -n 2p "$tmp/relout/results.csv" | cut -d, -f1)"
+(cd / && "$py" "$src/tests/cli/sweep_check.py" "$rtusim" "$tmp/relout" 1 scene.path,l1.size) \
+  && ok || bad "relative scene: sweep differs from rtusim run"
 
 # 3. Resume: killed (with its jobs) at several moments, then rerun: the same results.csv.
 cat > "$tmp/resume.toml" <<'TOML'
@@ -135,6 +132,9 @@ import json, sys
 j = json.load(open(sys.argv[1]))
 j["rows"].pop(next(iter(j["rows"])))
 json.dump(j, open(sys.argv[1], "w"))
+j = json.load(open(sys.argv[1].replace("2.json", "3.json")))
+j["rows"][next(iter(j["rows"]))] = {}
+json.dump(j, open(sys.argv[1].replace("2.json", "3.json"), "w"))
 PY
 "$rtusim" sweep "$tmp/resume.toml" --out "$tmp/damaged" --no-plots > /dev/null 2> "$tmp/stderr" \
   && cmp -s "$tmp/whole/results.csv" "$tmp/damaged/results.csv" && ok || bad "damaged job files: $(cat "$tmp/stderr")"
@@ -196,6 +196,9 @@ expect_bad bad_scene_before_running 'broken.toml:5: \[sweep.group.s\] scene.path
 [ -e "$tmp/none" ] && bad "a bad spec left $tmp/none" || ok
 # ... nor the parent directories it made for --out.
 expect_bad bad_scene_parents 'broken.toml:5: ' "$tmp/broken.toml" "$tmp/made/for/it"
+# The value that sets the scene is named, not another scene or camera key swept beside it.
+spec_with vfovscene $'camera.vfov = [30, 60]\nscene.path = ["builtin:cornell", "broken.gltf"]'
+expect_bad bad_scene_beside_vfov 'vfovscene.toml:6: \[sweep\] scene.path = broken.gltf: scene.path: ' "$tmp/vfovscene.toml" "$tmp/none"
 spec_with nocam $'[[sweep.group.s]]\nscene.path = "builtin:cornell"\n[[sweep.group.s]]\nscene.path = "builtin:cornell"\nscene.camera = "nowhere"'
 expect_bad bad_camera_before_running "nocam.toml:7: \\[sweep.group.s\\] scene.camera = nowhere, scene.path = builtin:cornell: scene.camera: no camera node 'nowhere'" "$tmp/nocam.toml" "$tmp/none"
 [ -e "$tmp/made" ] && bad "a bad spec left $tmp/made" || ok
