@@ -2,8 +2,8 @@
 // deterministic stat, and the node stream's count and checksum, with the case's expected.json.
 //
 // A case is a subdirectory DIR/<case>/ with config.toml and expected.json (a flat JSON object).
-// Expected keys: every stats.json key of the run except run.seconds and those ending in
-// "seconds" or "per_second" (timings), plus trace.node_stream.count and .checksum (of the first
+// Expected keys: every stats.json key of the run but the timings (is_timing_key: wall-clock
+// seconds and rates; rates over simulated time are results), plus trace.node_stream.count and .checksum (of the first
 // layout; with several layouts also layout.<kind>.trace.node_stream.*). Values compare exactly.
 #include <algorithm>
 #include <chrono>
@@ -19,6 +19,7 @@
 #include "trace/trace_format.h"
 #include "util/error.h"
 #include "util/output_files.h"
+#include "util/stats.h"
 
 #ifndef RTUSIM_SOURCE_DIR
 #define RTUSIM_SOURCE_DIR "."
@@ -34,10 +35,6 @@ struct Case {
   fs::path config, expected_path;
   json expected;  // null when absent (allowed only with --update)
 };
-
-bool is_timing(const std::string& key) {
-  return key.ends_with("seconds") || key.ends_with("per_second");
-}
 
 // traces/ beside the project (the source tree this binary was built from), else ./traces.
 fs::path default_dir() {
@@ -98,7 +95,7 @@ json run_case(const Case& c) {
   const SimulationResult r = simulate(p);
   json got = json::object();
   for (const auto& [k, v] : r.stats.values())
-    if (!is_timing(k)) got[k] = v;
+    if (!is_timing_key(k)) got[k] = v;
   for (size_t i = 0; i < p.images.size(); ++i) {
     const MemoryImage& image = p.images[i];
     const TraceDigest d = node_stream_digest(p, image);

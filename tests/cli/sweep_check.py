@@ -14,8 +14,7 @@ from pathlib import Path
 
 
 def timing(key):
-    return key.endswith("seconds") or key in ("trace.rays_per_second",
-                                              "sample.rays_simulated_per_second")
+    return key.endswith(("seconds", "trace.rays_per_second", "sample.rays_simulated_per_second"))
 
 
 def cell(value):
