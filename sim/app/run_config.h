@@ -53,7 +53,8 @@ struct ReportParams {
 struct RunConfig {
   std::string origin;  // the config file
   // Where the values that later checks name came from (ConfigReader::where): "scene.path",
-  // "scene.camera", "layout.kind", and each camera.* key.
+  // "scene.camera", "layout.kind", each camera.* key, and the keys trace refuses
+  // (functional.rays_in_flight, functional.timed, sample.rate, sample.target_ci).
   std::map<std::string, std::string> origins;
   SceneParams scene;
   std::optional<CameraDesc> camera;  // camera.eye/target/up/vfov, when given

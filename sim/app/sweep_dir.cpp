@@ -1,5 +1,7 @@
 #include "app/sweep_dir.h"
 
+#include <cerrno>
+#include <cstring>
 #include <fstream>
 #include <map>
 #include <set>
@@ -26,7 +28,7 @@ void write_file_atomically(const fs::path& path, const std::string& text) {
     std::ofstream out(file.temp_path(), std::ios::binary);
     out << text;
     out.flush();
-    if (!out) throw InputError(file.temp_path().string() + ": cannot write");
+    if (!out) throw InputError(file.name() + ": cannot write (" + std::strerror(errno) + ")");
   }
   file.commit();
 }

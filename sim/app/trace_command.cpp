@@ -1,5 +1,6 @@
 // `rtusim trace`: the node-fetch address stream of one layout, as a din or bin trace file.
 #include <cstdio>
+#include <sstream>
 
 #include "app/commands.h"
 #include "app/pipeline.h"
@@ -25,10 +26,29 @@ int trace_command(const TraceOptions& opts) {
                        std::to_string(c.layout.kinds.size()) + " (" + kinds +
                        "); pick one with --set layout.kind=NAME");
     }
+    // The stream is the plain functional tier's, one ray at a time over the whole frame: a
+    // config that asks for another order or part of the frame would get a trace that is not
+    // its run's.
+    const auto refuse = [&](const char* key, const std::string& what) {
+      throw InputError(c.origins.at(key) + ": " + key + ": " + what +
+                       ": trace records the whole frame's node stream one ray at a time (the "
+                       "plain functional tier's); set it back to its default");
+    };
+    if (c.functional.rays_in_flight > 1)
+      refuse("functional.rays_in_flight", std::to_string(c.functional.rays_in_flight));
+    if (c.functional.timed) refuse("functional.timed", "true");
+    const auto text = [](double v) {
+      std::ostringstream os;
+      os << v;
+      return os.str();
+    };
+    if (c.sample.rate < 1.0) refuse("sample.rate", text(c.sample.rate));
+    if (c.sample.target_ci > 0.0) refuse("sample.target_ci", text(c.sample.target_ci));
   }
   const Prepared p = prepare_run(opts.config, opts.overrides);
   const MemoryImage& image = p.images.front();
-  TraceWriter writer(file.temp_path(), format, image.layout, image.node_bytes, image_hash(image));
+  TraceWriter writer(file.temp_path(), format, image.layout, image.node_bytes, image_hash(image),
+                     file.name());
   write_node_stream(p, image, writer);
   writer.finish();
   file.commit();

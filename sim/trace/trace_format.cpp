@@ -59,13 +59,16 @@ std::string hex64(uint64_t v) {
 // ---- writer ----
 
 TraceWriter::TraceWriter(const std::filesystem::path& path, TraceFormat format,
-                         const std::string& layout, uint32_t node_bytes, uint64_t scene_hash)
-    : path_(path), format_(format), layout_(layout), node_bytes_(node_bytes),
+                         const std::string& layout, uint32_t node_bytes, uint64_t scene_hash,
+                         std::string name)
+    : path_(path), name_(name.empty() ? path.string() : std::move(name)), format_(format),
+      layout_(layout), node_bytes_(node_bytes),
       scene_hash_(scene_hash), buf_(kBufferBytes) {
   if (layout_.empty() || layout_.size() > kMaxLayoutNameBytes)
     throw std::logic_error("trace: layout name '" + layout_ + "' does not fit the bin header");
   file_.reset(std::fopen(path_.c_str(), "wb"));
-  if (!file_) throw InputError(path_.string() + ": cannot open for writing (" + std::strerror(errno) + ")");
+  if (!file_)
+    throw InputError(name_ + ": cannot open for writing (" + std::strerror(errno) + ")");
   if (format_ == TraceFormat::kBin) write_header();  // placeholder; finish() rewrites it
 }
 
@@ -99,7 +102,7 @@ void TraceWriter::append_din(uint64_t addr) {
 void TraceWriter::flush_buffer() {
   if (used_ == 0) return;
   if (std::fwrite(buf_.data(), 1, used_, file_.get()) != used_)
-    throw InputError(path_.string() + ": cannot write (" + std::strerror(errno) + ")");
+    throw InputError(name_ + ": cannot write (" + std::strerror(errno) + ")");
   payload_bytes_ += used_;
   used_ = 0;
 }
@@ -116,7 +119,7 @@ void TraceWriter::write_header() {
   put_u32(&h[48], static_cast<uint32_t>(layout_.size()));
   std::memcpy(&h[52], layout_.data(), layout_.size());
   if (std::fseek(file_.get(), 0, SEEK_SET) != 0 || std::fwrite(h.data(), 1, h.size(), file_.get()) != h.size())
-    throw InputError(path_.string() + ": cannot write (" + std::strerror(errno) + ")");
+    throw InputError(name_ + ": cannot write (" + std::strerror(errno) + ")");
 }
 
 void TraceWriter::finish() {
@@ -124,7 +127,7 @@ void TraceWriter::finish() {
   if (format_ == TraceFormat::kBin) write_header();
   const bool ok = std::fflush(file_.get()) == 0;
   const bool closed = std::fclose(file_.release()) == 0;
-  if (!ok || !closed) throw InputError(path_.string() + ": cannot write (" + std::strerror(errno) + ")");
+  if (!ok || !closed) throw InputError(name_ + ": cannot write (" + std::strerror(errno) + ")");
 }
 
 // ---- reader ----

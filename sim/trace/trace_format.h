@@ -77,13 +77,14 @@ uint64_t image_hash(const MemoryImage& image);
 // 16 lowercase hex digits.
 std::string hex64(uint64_t v);
 
-// Writes one trace file; append() per fetch, then finish(). Throws std::runtime_error on a
-// write failure (an internal error: the path was checked before).
+// Writes one trace file; append() per fetch, then finish(). Throws InputError on a write
+// failure (a full disk, a file size limit), naming `name` (default: the path; a temporary
+// file's writer names the file it becomes).
 class TraceWriter {
  public:
   // `layout`, `node_bytes` and `scene_hash` go in the bin header (ignored by din).
   TraceWriter(const std::filesystem::path& path, TraceFormat format, const std::string& layout,
-              uint32_t node_bytes, uint64_t scene_hash);
+              uint32_t node_bytes, uint64_t scene_hash, std::string name = "");
   ~TraceWriter();
   TraceWriter(const TraceWriter&) = delete;
   TraceWriter& operator=(const TraceWriter&) = delete;
@@ -116,6 +117,7 @@ class TraceWriter {
   void write_header();
 
   std::filesystem::path path_;
+  std::string name_;  // in messages
   TraceFormat format_;
   std::string layout_;
   uint32_t node_bytes_;

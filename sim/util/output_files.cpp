@@ -227,17 +227,30 @@ void OutputFiles::commit() {
 
 // ---- OutputFile ----
 
-OutputFile::OutputFile(fs::path path) : path_(std::move(path)) {
+OutputFile::OutputFile(fs::path path) : name_(path.string()), path_(std::move(path)) {
   std::error_code ec;
   if (fs::is_directory(path_, ec))
-    throw InputError(path_.string() + ": is a directory (need a file name)");
+    throw InputError(name_ + ": is a directory (need a file name)");
+  // A symbolic link is written through (its target replaced, the link kept), a dangling one
+  // too (its target made).
+  for (int hops = 0; fs::is_symlink(fs::symlink_status(path_, ec)); ++hops) {
+    if (hops == 40) throw InputError(name_ + ": too many levels of symbolic links");
+    const fs::path target = fs::read_symlink(path_, ec);
+    if (ec) throw InputError(name_ + ": cannot read the link (" + ec.message() + ")");
+    path_ = (target.is_absolute() ? target : path_.parent_path() / target).lexically_normal();
+  }
+  if (path_.string() != name_ && fs::is_directory(path_, ec))
+    throw InputError(name_ + ": links to a directory (need a file name)");
+  if (fs::exists(fs::status(path_, ec)) && !fs::is_regular_file(path_, ec))
+    throw InputError(name_ + ": exists and is not a regular file (a device, FIFO or socket); "
+                     "rtusim writes a file beside it and renames it into place");
   temp_ = path_;
   temp_ += ".tmp-" + std::to_string(::getpid());
   const fs::path parent = path_.has_parent_path() ? path_.parent_path() : fs::path(".");
   if (!fs::is_directory(parent, ec))
-    throw InputError(path_.string() + ": directory " + parent.string() + " does not exist");
+    throw InputError(name_ + ": directory " + parent.string() + " does not exist");
   if (::access(parent.c_str(), W_OK) != 0)
-    throw InputError(path_.string() + ": directory " + parent.string() + " is not writable");
+    throw InputError(name_ + ": directory " + parent.string() + " is not writable");
   slot_ = register_cleanup(temp_, 1);
 }
 
@@ -250,7 +263,7 @@ OutputFile::~OutputFile() {
 void OutputFile::commit() {
   const SignalBlock block;
   if (::rename(temp_.c_str(), path_.c_str()) != 0)
-    throw InputError(path_.string() + ": cannot write (" + errno_text() + ")");
+    throw InputError(name_ + ": cannot write (" + errno_text() + ")");
   committed_ = true;
   unregister_cleanup(slot_);
 }

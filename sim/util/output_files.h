@@ -49,7 +49,10 @@ class OutputFiles {
   bool committed_ = false;
 };
 
-// For a single output file: writes to FILE.tmp-PID, renamed over FILE by commit().
+// For a single output file: writes to FILE.tmp-PID, renamed over FILE by commit(). A FILE that
+// is a symbolic link is written through (its target replaced, the link kept); one that exists
+// and is not a regular file (a device, a FIFO, a socket) is an InputError: renaming would
+// replace it.
 class OutputFile {
  public:
   explicit OutputFile(std::filesystem::path path);
@@ -57,9 +60,11 @@ class OutputFile {
   OutputFile(const OutputFile&) = delete;
   OutputFile& operator=(const OutputFile&) = delete;
   const std::filesystem::path& temp_path() const { return temp_; }
+  const std::string& name() const { return name_; }  // the path as given, for messages
   void commit();
 
  private:
+  std::string name_;
   std::filesystem::path path_, temp_;
   int slot_ = -1;
   bool committed_ = false;

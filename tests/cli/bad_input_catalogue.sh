@@ -97,6 +97,8 @@ expect_bad cfg_camera_up_parallel 'configs/default.toml: camera.up: up is parall
 expect_bad cfg_camera_up_zero '^rtusim: --set camera.up=\[0,0,0\]: camera.up: up is the zero vector' run "$D" --set 'camera.eye=[0,0,5]' --set 'camera.target=[0,0,0]' --set 'camera.up=[0,0,0]'
 expect_bad cfg_camera_far '^rtusim: --set camera.eye=\[1e20,1,3\]: camera.eye: eye and target are too far apart for single precision' run "$D" --set 'camera.eye=[1e20,1,3]' --set 'camera.target=[0,1,0]'
 expect_bad cfg_target_key_not_measured "^rtusim: --set sample.target_key=sim.cycles: sample.target_key: 'sim.cycles' is not measured by this tier" run "$D" --set sample.target_ci=0.1 --set sample.target_key=sim.cycles
+expect_bad trace_interleaved '^rtusim: --set functional.rays_in_flight=4: functional.rays_in_flight: 4: trace records' "$rtusim" trace "$D" --set functional.rays_in_flight=4 --out "$tmp/t.din"
+expect_bad trace_sampled '^rtusim: --set sample.rate=0.5: sample.rate: 0.5: trace records' "$rtusim" trace "$D" --set sample.rate=0.5 --out "$tmp/t.din"
 expect_bad cfg_unknown_camera "scene.camera: no camera node 'nowhere'" run "$D" --set scene.camera=nowhere
 
 # ---- scene ----

@@ -86,5 +86,25 @@ printf '[scene]\npath = "scenes/good.glb"\n[camera]\neye = [0.2, 0.2, 2]\ntarget
 (cd "$tmp" && "$rtusim" run rel/first/config.toml --out rerun > /dev/null) && cmp -s <(grep -v second "$tmp/rel/first/stats.json") <(grep -v second "$tmp/rerun/stats.json") \
   && ok || bad "relative scene: config.toml does not run again from elsewhere"
 
+# A single output file (trace, hits): written through a symbolic link (the link kept), a FIFO
+# (or a device) refused without touching it, and a write failure named by --out, not by the
+# temporary file, with nothing left.
+t8=(--set image.width=8 --set image.height=8)
+mkdir -p "$tmp/one" && echo keep > "$tmp/one/target.bin" && ln -s target.bin "$tmp/one/link.bin"
+"$rtusim" trace "$D" "${t8[@]}" --format bin --out "$tmp/one/link.bin" > /dev/null \
+  && [ -L "$tmp/one/link.bin" ] && [ "$(head -c 4 "$tmp/one/target.bin")" != keep ] \
+  && ok || bad "trace through a symbolic link"
+mkfifo "$tmp/one/fifo"
+set +e
+"$rtusim" hits "$D" "${t8[@]}" --out "$tmp/one/fifo" > /dev/null 2> "$tmp/one/fifo.err"; rc=$?
+set -e
+[ $rc -eq 2 ] && [ -p "$tmp/one/fifo" ] && grep -q "fifo: exists and is not a regular file" "$tmp/one/fifo.err" \
+  && ok || bad "hits onto a FIFO: exit $rc, $(cat "$tmp/one/fifo.err")"
+set +e
+(trap '' XFSZ; ulimit -f 4; "$rtusim" trace "$D" "${t8[@]}" --out "$tmp/one/big.din" > /dev/null 2> "$tmp/one/big.err"); rc=$?
+set -e
+[ $rc -eq 2 ] && grep -q "^rtusim: $tmp/one/big.din: cannot write" "$tmp/one/big.err" \
+  && [ -z "$(ls "$tmp/one" | grep big.din)" ] && ok || bad "a write failure: exit $rc, $(cat "$tmp/one/big.err")"
+
 echo "output_faults: $pass passed, $fail failed"
 [ $fail -eq 0 ]
