@@ -4,6 +4,7 @@
 #include <cstring>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -98,23 +99,23 @@ fs::path SweepDir::job_file(size_t job) const {
 fs::path SweepDir::log_file(size_t job) const {
   return dir_ / "logs" / (std::to_string(job) + ".log");
 }
-bool SweepDir::job_done(size_t job) const {
+std::optional<nlohmann::json> SweepDir::read_job(size_t job) const {
   std::error_code ec;
-  if (!fs::is_regular_file(job_file(job), ec)) return false;
+  if (!fs::is_regular_file(job_file(job), ec)) return std::nullopt;
   try {
-    const nlohmann::json j = nlohmann::json::parse(read_text(job_file(job)));
+    nlohmann::json j = nlohmann::json::parse(read_text(job_file(job)));
     const nlohmann::json& rows = j.at("rows");
     if (!rows.is_object() || rows.size() != job_points_.at(job).size() ||
         !j.at("seconds").is_number() || !j.at("points").is_number())
-      return false;
+      return std::nullopt;
     for (const size_t point : job_points_.at(job)) {  // every run writes dram.bytes.total
       const auto row = rows.find(std::to_string(point));
       if (row == rows.end() || !row->is_object() || !row->contains("dram.bytes.total"))
-        return false;
+        return std::nullopt;
     }
-    return true;
+    return j;
   } catch (const std::exception&) {  // not JSON, or a key missing: not done
-    return false;
+    return std::nullopt;
   }
 }
 
@@ -128,7 +129,9 @@ void SweepDir::write_results(const SweepPlan& plan) const {
   std::ostringstream timings;
   timings << "job,points,layouts,alone,seconds\n";  // alone: one point run by simulate()
   for (size_t j = 0; j < plan.jobs.size(); ++j) {
-    const nlohmann::json job = nlohmann::json::parse(read_text(job_file(j)));
+    const std::optional<nlohmann::json> read = read_job(j);
+    if (!read) throw std::runtime_error("sweep: job " + std::to_string(j) + " is not done");
+    const nlohmann::json& job = *read;
     std::set<std::string> layouts;
     for (const auto& [index, row] : job.at("rows").items()) {
       rows.at(std::stoul(index)) = row;

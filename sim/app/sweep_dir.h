@@ -8,6 +8,7 @@
 // an InputError.
 #pragma once
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,7 +27,9 @@ class SweepDir {
   std::string base_config() const { return (dir_ / "base.toml").string(); }
   std::filesystem::path job_file(size_t job) const;
   std::filesystem::path log_file(size_t job) const;
-  bool job_done(size_t job) const;  // its file holds a row for each of its points
+  // Job `job`'s file, parsed, when it holds a row for each of the job's points; else nullopt.
+  std::optional<nlohmann::json> read_job(size_t job) const;
+  bool job_done(size_t job) const { return read_job(job).has_value(); }
   void write_job(size_t job, const nlohmann::json& rows) const;
 
   // results.csv (one row per point: the swept keys, then every stats key in sorted order) and

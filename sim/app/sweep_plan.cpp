@@ -420,9 +420,11 @@ SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string
       std::ostringstream camera_key;
       camera_key << std::hexfloat << c.scene.resolved << '\n' << c.scene.camera << '\n'
                  << c.scene_vfov_deg.value_or(0.0f);
-      if (c.camera)
+      if (c.camera) {
         for (const glm::vec3& v : {c.camera->eye, c.camera->target, c.camera->up})
-          camera_key << ' ' << v.x << ' ' << v.y << ' ' << v.z << ' ' << c.camera->vfov_deg;
+          camera_key << ' ' << v.x << ' ' << v.y << ' ' << v.z;
+        camera_key << ' ' << c.camera->vfov_deg;
+      }
       if (checked_cameras.insert(camera_key.str()).second) {
         try {
           auto it = scenes.find(c.scene.resolved);
@@ -437,8 +439,8 @@ SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string
       throw point_error("layout.kind: a point has one layout (sweep layout.kind instead)", true);
     pt.caches = c.fetch_caches();
     pt.layout = c.layout.kinds.front();
-    pt.alone = c.sim.tier != FunctionalTier::kName || c.sample.active() ||
-               c.functional.rays_in_flight > 1 || c.functional.timed;
+    pt.alone =
+        c.sim.tier != FunctionalTier::kName || c.sample.active() || c.functional.interleaved();
     if (pt.alone) {
       pt.job = plan.jobs.size();
       plan.jobs.push_back(SweepJob{{index}, true});

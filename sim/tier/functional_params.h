@@ -17,6 +17,10 @@ struct FunctionalParams {
   int timed_segments = 1;
   // functional.timed_warmup_rays: the rays before each run timed unmeasured to warm it.
   int timed_warmup_rays = 256;
+
+  // Not the plain tier: the rays' fetches interleave (round-robin or timed), so the node stream
+  // is not the one-ray-at-a-time stream that trace records and a sweep's one pass evaluates.
+  bool interleaved() const { return rays_in_flight > 1 || timed; }
 };
 
 // Reads functional.*.
