@@ -81,10 +81,10 @@ RunConfig load_run_config(const std::string& path, const std::vector<std::string
   c.scene.path = kScenePath.read(r);
   c.scene.resolved = resolve_scene_path(c.scene.path, r.base_dir());
   c.scene.camera = kSceneCamera.read(r);
-  for (const char* key : {"scene.path", "scene.camera", "layout.kind", "functional.rays_in_flight",
-                          "functional.timed", "sample.rate", "sample.target_ci"})
-    c.origins[key] = r.where(key);
-  for (const char* key : {"camera.eye", "camera.target", "camera.up", "camera.vfov"})
+  for (const char* key :
+       {"scene.path", "scene.camera", "layout.kind", "camera.eye", "camera.target", "camera.up",
+        "camera.vfov", "functional.rays_in_flight", "functional.timed", "sample.rate",
+        "sample.target_ci"})
     c.origins[key] = r.where(key);
 
   // [camera]: an explicit pinhole camera (all of eye, target; up and vfov default), or
