@@ -8,8 +8,8 @@ rays-in-flight count, the cycle tier's node DRAM bytes and sim.cycles, the relat
 functional tier (which traces one ray at a time whatever the count), of
 functional.rays_in_flight = the same count (round-robin) and of the same with
 functional.timed = true (node bytes, and its estimate.cycles against sim.cycles), and the
-seconds of each (trace.seconds, the median of --repeats runs; the cycle tier runs on one thread,
-the functional tier on --threads, the interleaved modes on one).
+seconds of each (trace.seconds, the median of --repeats runs; each run with the config's
+sim.threads: the cycle tier's unit and the interleaved modes' timing run on one thread).
 
 Usage: scripts/interleave_bias.py CONFIG... [--names NAME...] [--size 512] [--layout dfl]
                                   [--repeats 1] [--out out/charts]
@@ -20,14 +20,19 @@ import csv
 import pathlib
 import sys
 
+from script_cli import (ScriptError, existing_file, guarded, output_dir, parser, positive_int,
+                        write_atomically)
 from speed_accuracy import ROOT, run
 
 
-def stats(rtusim, config, sets, repeats):
-    """The last run's stats, with trace.seconds the median of `repeats` runs; None on failure."""
+def stats(rtusim, config, sets, repeats, may_fail=False):
+    """The last run's stats, with trace.seconds the median of `repeats` runs. A failed run is a
+    ScriptError, or with may_fail (the cycle tier's runs: their row says so) None."""
     seconds, last = run(rtusim, config, sets, repeats)
     if seconds is None:
         first = (last.splitlines() or [""])[0]
+        if not may_fail:
+            raise ScriptError(f"{config}: {first}")
         print(f"  failed: {' '.join(sets)}: {first}", flush=True)
         return None
     last["trace.seconds"] = seconds
@@ -35,12 +40,13 @@ def stats(rtusim, config, sets, repeats):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = parser(__doc__)
     ap.add_argument("configs", nargs="+", type=pathlib.Path)
-    ap.add_argument("--size", type=int, default=512)
-    ap.add_argument("--layout", default="dfl")
-    ap.add_argument("--in-flight", type=int, nargs="+", default=[1, 8, 32, 128])
-    ap.add_argument("--repeats", type=int, default=1)
+    ap.add_argument("--size", type=positive_int, default=512, help="image width and height (default 512)")
+    ap.add_argument("--layout", default="dfl", help="layout.kind (default dfl)")
+    ap.add_argument("--in-flight", type=positive_int, nargs="+", default=[1, 8, 32, 128],
+                    help="rays in flight (default 1 8 32 128)")
+    ap.add_argument("--repeats", type=positive_int, default=1, help="runs per point (default 1)")
     ap.add_argument("--names", nargs="+", help="one name per config for the CSVs' names "
                     "(default: each config's file stem)")
     ap.add_argument("--out", type=pathlib.Path, default=ROOT / "out" / "charts",
@@ -52,6 +58,10 @@ def main():
         ap.error(f"--names gives {len(names)} names for {len(args.configs)} configs")
     if len(set(names)) != len(names):
         ap.error(f"two configs have the same name ({' '.join(names)}): give --names")
+    for config in args.configs:
+        existing_file(config, "CONFIG")
+    existing_file(args.rtusim, "--rtusim")
+    output_dir(args.out)
     common = [f"image.width={args.size}", f"image.height={args.size}", "tracer.ray_order=wavefront",
               f"layout.kind={args.layout}", "image.png=false", "image.heatmaps=false"]
     rows = []
@@ -59,7 +69,7 @@ def main():
         functional = stats(args.rtusim, config, common, args.repeats)
         for n in args.in_flight:
             cycle = stats(args.rtusim, config, common + ["sim.tier=cycle", f"sim.rays_in_flight={n}"],
-                          args.repeats)
+                          args.repeats, may_fail=True)
             inter = stats(args.rtusim, config, common + [f"functional.rays_in_flight={n}"],
                           args.repeats)
             timed = stats(args.rtusim, config, common + [f"functional.rays_in_flight={n}",
@@ -85,12 +95,12 @@ def main():
                 row["timed_cycles_error"] = timed["estimate.cycles"] / cycle["sim.cycles"] - 1
             rows.append(row)
             print(rows[-1], flush=True)
-    args.out.mkdir(parents=True, exist_ok=True)
     for name in names:
-        with open(args.out / f"interleave_bias_{name}.csv", "w", newline="") as f:
+        def write(f):
             w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
             w.writeheader()
             w.writerows(r for r in rows if r["scene"] == name)
+        write_atomically(args.out / f"interleave_bias_{name}.csv", write)
     print("| scene | rays in flight | cycle node MB | functional | round-robin | timed | "
           "timed cycles | cycle s / round-robin s / timed s |")
     print("|---|---:|---:|---:|---:|---:|---:|---|")
@@ -106,4 +116,4 @@ def main():
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(guarded(main))

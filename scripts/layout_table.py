@@ -13,13 +13,14 @@ Usage: scripts/layout_table.py [--scenes kitchen sponza_dabrovic ...] [--size 51
                                [--cycle-size 512] [--out out/layouts] [--rtusim build/rtusim]
                                [--readme]
 """
-import argparse
 import csv
 import json
 import pathlib
 import re
-import subprocess
 import sys
+
+from script_cli import (ScriptError, guarded, output_dir, parser, positive_int, run_rtusim,
+                        write_atomically)
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 LAYOUTS = ["dfl", "odfl", "subtree", "subtree-bfs", "veb", "cluster", "profile"]
@@ -41,7 +42,7 @@ def run(rtusim, scene, size, l1_bytes, out_dir, extra=(), reuse=False):
            "--set", "l1.policy=lru", "--set", "image.png=false", "--set", "image.heatmaps=false",
            *extra, "--out", str(out_dir)]
     print("+", " ".join(cmd), flush=True)
-    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
+    run_rtusim(cmd, f"{scene}, {size}x{size}, l1.size {l1_bytes}")
     return json.loads((out_dir / "stats.json").read_text())
 
 
@@ -50,12 +51,12 @@ def pct(x, base):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = parser(__doc__)
     ap.add_argument("--scenes", nargs="*", default=SCENES)
-    ap.add_argument("--size", type=int, default=512)
-    ap.add_argument("--l1", nargs="+", type=int, default=[8192, 4096, 32768])
+    ap.add_argument("--size", type=positive_int, default=512)
+    ap.add_argument("--l1", nargs="+", type=positive_int, default=[8192, 4096, 32768])
     ap.add_argument("--cycle", nargs="*", default=[], help="scenes for the cycle-tier table")
-    ap.add_argument("--cycle-size", type=int, default=512)
+    ap.add_argument("--cycle-size", type=positive_int, default=512)
     ap.add_argument("--out", type=pathlib.Path, default=ROOT / "out" / "layouts")
     ap.add_argument("--rtusim", type=pathlib.Path, default=ROOT / "build" / "rtusim")
     ap.add_argument("--readme", action="store_true", help="put the table into README.md")
@@ -69,13 +70,17 @@ def main():
             ap.error(f"--scenes/--cycle {scene}: no configs/{scene}.toml")
     if not args.rtusim.is_file():
         ap.error(f"--rtusim {args.rtusim}: not found (build first)")
-    args.out.mkdir(parents=True, exist_ok=True)
+    readme = ROOT / "README.md"
+    pattern = re.compile(re.escape(MARK_BEGIN) + ".*?" + re.escape(MARK_END), re.S)
+    if args.readme and not (readme.is_file() and pattern.search(readme.read_text())):
+        raise ScriptError(f"--readme: {readme}: missing, or no {MARK_BEGIN} ... {MARK_END} markers")
+    output_dir(args.out)
 
     # Functional tier: node memory and node DRAM bytes per scene, layout and L1 size.
     rows, stats = [], {}
     for scene in args.scenes:
         for l1 in args.l1:
-            s = run(args.rtusim, scene, args.size, l1, args.out / f"{scene}_l1_{l1}",
+            s = run(args.rtusim, scene, args.size, l1, args.out / f"{scene}_{args.size}_l1_{l1}",
                     reuse=args.reuse)
             stats[(scene, l1)] = s
             for kind in LAYOUTS:
@@ -100,12 +105,14 @@ def main():
                          "cycles": s[p + "sim.cycles"]})
 
     if not rows:
-        print("nothing to tabulate: give --scenes or --cycle", file=sys.stderr)
-        return 2
-    with open(args.out / "layouts.csv", "w", newline="") as f:
+        raise ScriptError("nothing to tabulate: give --scenes or --cycle")
+
+    def write_csv(f):
         w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
         w.writeheader()
         w.writerows(rows)
+
+    write_atomically(args.out / "layouts.csv", write_csv)
 
     def node(scene, key, kind, what):
         return stats[(scene, key)][f"layout.{kind}.{what}"]
@@ -143,19 +150,14 @@ def main():
                     f"| {scene} | {kind} | {c:,} | {pct(c, node(scene, 'cycle', 'odfl', 'sim.cycles'))} | "
                     f"{b / 1e6:.2f} | {pct(b, node(scene, 'cycle', 'odfl', 'dram.bytes.nodes'))} |")
     table = "\n".join(lines) + "\n"
-    (args.out / "layouts.md").write_text(table)
+    write_atomically(args.out / "layouts.md", lambda f: f.write(table))
     print(table)
 
     if args.readme:
-        readme = ROOT / "README.md"
-        text = readme.read_text()
-        pattern = re.compile(re.escape(MARK_BEGIN) + ".*?" + re.escape(MARK_END), re.S)
-        if not pattern.search(text):
-            print(f"README.md: no {MARK_BEGIN} ... {MARK_END} markers", file=sys.stderr)
-            return 2
-        readme.write_text(pattern.sub(lambda _: f"{MARK_BEGIN}\n{table}{MARK_END}", text))
+        text = pattern.sub(lambda _: f"{MARK_BEGIN}\n{table}{MARK_END}", readme.read_text())
+        write_atomically(readme, lambda f: f.write(text))
     return 0
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(guarded(main))

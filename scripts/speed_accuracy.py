@@ -25,6 +25,9 @@ import subprocess
 import sys
 import tempfile
 
+from script_cli import (ScriptError, existing_file, guarded, output_dir, parser, positive_int,
+                        save_figure, write_atomically)
+
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 
 
@@ -36,7 +39,10 @@ def run(rtusim, config, sets, repeats):
             cmd = [str(rtusim), "run", str(config), "--out", tmp]
             for s in sets:
                 cmd += ["--set", s]
-            r = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+            try:
+                r = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+            except OSError as e:
+                raise ScriptError(f"--rtusim {rtusim}: cannot run ({e.strerror})")
             if r.returncode != 0:
                 return None, r.stderr.strip()
             stats = json.loads((pathlib.Path(tmp) / "stats.json").read_text())
@@ -80,7 +86,8 @@ def ladder(size, rif, rtl):
 
 
 def worst_error(r):
-    """|node error| at the far end of the CI when there is one (a lucky estimate earns nothing)."""
+    """|node error| at the far end of the CI when there is one (a lucky estimate earns nothing;
+    an open-ended CI, from too few units, is an infinite error)."""
     ends = [r["nodes_err"]] + [r[k] for k in ("nodes_err_lo", "nodes_err_hi") if r[k] is not None]
     return max(abs(e) for e in ends)
 
@@ -94,16 +101,32 @@ def pareto(rows):
             for o in rows)
 
 
+# The run's settings, in every row of the CSV (the chart's title is drawn from them).
+SETTINGS = ("size", "repeats", "cycle_repeats", "rays_in_flight")
+TEXT_COLUMNS = ("label", "family", "ci_valid", "units", "pareto")
+
+
 def read_csv(path):
-    """The rows of an earlier run, numbers parsed."""
-    rows = []
-    with open(path) as f:
-        for r in csv.DictReader(f):
-            for k, v in r.items():
-                if k in ("label", "family", "ci_valid", "units", "pareto"):
-                    continue
+    """The rows of an earlier run, numbers parsed; a ScriptError when it is not such a CSV."""
+    try:
+        with open(path, newline="") as f:
+            rows = list(csv.DictReader(f))
+    except OSError as e:
+        raise ScriptError(f"--replot: {path}: cannot read ({e.strerror})")
+    need = ("label", "family", "speedup", "nodes_err", "nodes_err_lo", "nodes_err_hi",
+            "cycles_err", "cycles_err_lo", "cycles_err_hi") + SETTINGS
+    missing = [k for k in need if not rows or k not in rows[0]]
+    if missing:
+        raise ScriptError(f"--replot: {path}: not a speed_accuracy CSV of this version "
+                          f"(no rows, or no column {missing[0]})")
+    for line, r in enumerate(rows, start=2):
+        for k, v in r.items():
+            if k in TEXT_COLUMNS:
+                continue
+            try:
                 r[k] = None if v in ("", "None") else float(v)
-            rows.append(r)
+            except (TypeError, ValueError):
+                raise ScriptError(f"--replot: {path}:{line}: column {k}: {v!r} is not a number")
     return rows
 
 
@@ -125,7 +148,13 @@ def plot(rows, path, title):
             if err is None or math.isnan(err):
                 continue
             lo, hi = r[f"{key}_err_lo"], r[f"{key}_err_hi"]
-            yerr = [[100 * (err - lo)], [100 * (hi - err)]] if lo is not None else None
+            yerr = None
+            if lo is not None and hi is not None and math.isfinite(hi):
+                yerr = [[100 * (err - lo)], [100 * (hi - err)]]
+            elif lo is not None:  # an open-ended CI (too few units): its low end and an arrow up
+                yerr = [[100 * (err - lo)], [0]]
+                ax.annotate("", xy=(r["speedup"], 100 * err + 50), xytext=(r["speedup"], 100 * err),
+                            arrowprops={"arrowstyle": "->", "color": colours[r["family"]]})
             ax.errorbar(r["speedup"], 100 * err, yerr=yerr, fmt="o", capsize=3,
                         color=colours[r["family"]], mec="gold" if r["pareto"] and key == "nodes" else None,
                         mew=2 if r["pareto"] and key == "nodes" else 1)
@@ -146,44 +175,58 @@ def plot(rows, path, title):
         ax.grid(True, which="both", alpha=0.3)
     fig.suptitle(title)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    save_figure(fig, path, dpi=110)
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = parser(__doc__)
     ap.add_argument("config", type=pathlib.Path)
-    ap.add_argument("--name")
-    ap.add_argument("--size", type=int, default=512)
-    ap.add_argument("--repeats", type=int, default=3)
-    ap.add_argument("--cycle-repeats", type=int, help="repeats of the sampled cycle-tier and "
+    ap.add_argument("--name", help="the scene's name in the output files (default: the config's stem)")
+    ap.add_argument("--size", type=positive_int, default=512, help="image width and height (default 512)")
+    ap.add_argument("--repeats", type=positive_int, default=3, help="runs per point (default 3)")
+    ap.add_argument("--cycle-repeats", type=positive_int, help="repeats of the sampled cycle-tier and "
                     "naive points (default: --repeats)")
-    ap.add_argument("--rays-in-flight", type=int, default=32)
-    ap.add_argument("--no-rtl", action="store_true")
-    ap.add_argument("--replot", action="store_true", help="redraw from the CSV of an earlier run")
+    ap.add_argument("--rays-in-flight", type=positive_int, default=32,
+                    help="the cycle tier's sim.rays_in_flight and the interleaved modes' (default 32)")
+    ap.add_argument("--no-rtl", action="store_true", help="leave out the rtl tier")
+    ap.add_argument("--replot", action="store_true", help="redraw from the CSV of an earlier run "
+                    "(its settings, not these options', title the chart)")
     ap.add_argument("--out", type=pathlib.Path, default=ROOT / "out" / "charts",
                     help="output directory (default out/charts; docs: the committed set)")
     ap.add_argument("--rtusim", type=pathlib.Path, default=ROOT / "build" / "rtusim")
     args = ap.parse_args()
     name = args.name or args.config.stem
-    common = [f"image.width={args.size}", f"image.height={args.size}", "tracer.ray_order=wavefront",
-              "layout.kind=dfl", f"sim.rays_in_flight={args.rays_in_flight}", "image.png=false",
-              "image.heatmaps=false"]
     csv_path = args.out / f"speed_accuracy_{name}.csv"
-    cycle_repeats = args.cycle_repeats or args.repeats
-    title = (f"{name} {args.size}x{args.size}, Whitted depth 4, wavefront, dfl, "
-             f"{args.rays_in_flight} rays in flight; medians of {args.repeats} runs" +
-             (f" ({cycle_repeats} for sampled cycle and naive)" if cycle_repeats != args.repeats
-              else ""))
     if args.replot:
         rows = read_csv(csv_path)
+        settings = {k: int(rows[0][k]) for k in SETTINGS}
     else:
+        existing_file(args.config, "CONFIG")
+        existing_file(args.rtusim, "--rtusim")
+        output_dir(args.out)
+        settings = {"size": args.size, "repeats": args.repeats,
+                    "cycle_repeats": args.cycle_repeats or args.repeats,
+                    "rays_in_flight": args.rays_in_flight}
+        common = [f"image.width={args.size}", f"image.height={args.size}",
+                  "tracer.ray_order=wavefront", "layout.kind=dfl",
+                  f"sim.rays_in_flight={args.rays_in_flight}", "image.png=false",
+                  "image.heatmaps=false"]
         rows = measure(args, common)
+        for r in rows:
+            r.update(settings)
+    output_dir(args.out)
     pareto(rows)
-    args.out.mkdir(parents=True, exist_ok=True)
-    with open(csv_path, "w", newline="") as f:
+    size, repeats, cycle_repeats = settings["size"], settings["repeats"], settings["cycle_repeats"]
+    title = (f"{name} {size}x{size}, wavefront, dfl, {settings['rays_in_flight']} rays in flight; "
+             f"medians of {repeats} runs" +
+             (f" ({cycle_repeats} for sampled cycle and naive)" if cycle_repeats != repeats else ""))
+
+    def write(f):
         w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
         w.writeheader()
         w.writerows(rows)
+
+    write_atomically(csv_path, write)
     plot(rows, args.out / f"speed_accuracy_{name}.png", title)
     print(f"wrote {csv_path} and its .png")
 
@@ -199,7 +242,10 @@ def measure(args, common):
         print(f"+ {label}", flush=True)
         seconds, stats = run(args.rtusim, args.config, sets, repeats)
         if seconds is None:
-            print(f"  skipped: {stats}", flush=True)
+            first = (stats.splitlines() or [""])[0]
+            if ref is None:  # every error is measured against it: nothing to chart without it
+                raise ScriptError(f"{args.config}: the reference ({label}) failed: {first}")
+            print(f"  skipped: {first}", flush=True)
             continue
         if ref is None:
             ref = (seconds, stats)
@@ -218,9 +264,13 @@ def measure(args, common):
             v = stats[stat] * scale
             row[key] = v
             row[f"{key}_err"] = v / truth - 1
-            lo, hi = stats.get(stat + ".ci95_low"), stats.get(stat + ".ci95_high")
+            # A CI key present but null is an open-ended interval (too few units): infinite.
+            lo = stats.get(stat + ".ci95_low", None)
+            hi = stats.get(stat + ".ci95_high", None)
+            open_ended = stat + ".ci95_high" in stats and hi is None
             row[f"{key}_err_lo"] = None if lo is None else lo * scale / truth - 1
-            row[f"{key}_err_hi"] = None if hi is None else hi * scale / truth - 1
+            row[f"{key}_err_hi"] = (math.inf if open_ended else
+                                    None if hi is None else hi * scale / truth - 1)
         rows.append(row)
         print(f"  {seconds:.3f} s, x{row['speedup']:.1f}, node error {100 * row['nodes_err']:+.2f}%",
               flush=True)
@@ -228,4 +278,4 @@ def measure(args, common):
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(guarded(main))

@@ -11,12 +11,13 @@ DFL and against subtree, node memory per layout) beside the study's published fi
 Usage: scripts/study_experiment.py [--scenes kitchen sponza_dabrovic ...] [--size 512]
                                    [--out out/study] [--rtusim build/rtusim]
 """
-import argparse
 import csv
 import json
 import pathlib
-import subprocess
 import sys
+
+from script_cli import (ScriptError, existing_file, guarded, output_dir, parser, positive_int,
+                        run_rtusim, write_atomically)
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 LAYOUTS = ["dfl", "odfl", "subtree", "subtree-bfs"]
@@ -31,20 +32,24 @@ def run_scene(rtusim, scene, size, out_dir):
            "--set", "l1.size=8192", "--set", "l1.assoc=4", "--set", "l1.line=64",
            "--set", "l1.policy=lru", "--out", str(out_dir)]
     print("+", " ".join(cmd), flush=True)
-    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
+    run_rtusim(cmd, f"{scene}, {size}x{size}")
     return json.loads((out_dir / "stats.json").read_text())
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = parser(__doc__)
     ap.add_argument("--scenes", nargs="+",
                     default=["kitchen", "sponza_dabrovic", "cornell_whitted", "iridescent_dish",
                              "metal_rough_spheres"])
-    ap.add_argument("--size", type=int, default=512)
+    ap.add_argument("--size", type=positive_int, default=512)
     ap.add_argument("--out", type=pathlib.Path, default=ROOT / "out" / "study")
     ap.add_argument("--rtusim", type=pathlib.Path, default=ROOT / "build" / "rtusim")
     args = ap.parse_args()
-    args.out.mkdir(parents=True, exist_ok=True)
+    for scene in args.scenes:
+        if not (ROOT / "configs" / f"{scene}.toml").is_file():
+            raise ScriptError(f"--scenes {scene}: no configs/{scene}.toml")
+    existing_file(args.rtusim, "--rtusim")
+    output_dir(args.out)
 
     rows = []
     for scene in args.scenes:
@@ -60,10 +65,12 @@ def main():
                 "node_dram_bytes_per_ray": s[p + "report.node_dram_bytes_per_ray"],
             })
 
-    with open(args.out / "study.csv", "w", newline="") as f:
+    def write_csv(f):
         w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
         w.writeheader()
         w.writerows(rows)
+
+    write_atomically(args.out / "study.csv", write_csv)
 
     by = {(r["scene"], r["layout"]): r for r in rows}
     lines = [
@@ -89,10 +96,10 @@ def main():
               f"{STUDY['odfl_vs_dfl']} less node bandwidth than DFL and {STUDY['odfl_vs_subtree']} "
               f"less than the ordinary subtree layout, which needs {STUDY['subtree_memory']} memory.",
               "Negative percentages are savings of ODFL."]
-    (args.out / "study.md").write_text("\n".join(lines) + "\n")
+    write_atomically(args.out / "study.md", lambda f: f.write("\n".join(lines) + "\n"))
     print("\n".join(lines))
     return 0
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(guarded(main))

@@ -15,19 +15,24 @@ Start a cluster by hand:
 (each task runs one job on one core: --threads 1)
 then: rtusim sweep SPEC --out DIR --scheduler tcp://SCHEDULER:8786
 """
-import argparse
 import os
 import subprocess
 import sys
 import tempfile
+import uuid
 from pathlib import Path
+
+from script_cli import ScriptError, guarded, parser
 
 
 def run_job(command, job):
     """On a worker: one job of the sweep into a private directory; returns (job, rows text)."""
     with tempfile.TemporaryDirectory(prefix="rtusim-sweep-") as tmp:
         argv = list(command) + ["--out", tmp, "--group", str(job), "--threads", "1", "--no-plots"]
-        done = subprocess.run(argv, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        try:
+            done = subprocess.run(argv, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        except OSError as e:  # no rtusim at that path on this worker
+            return job, None, 127, f"{argv[0]}: cannot run on this worker ({e.strerror})"
         if done.returncode != 0:
             lines = [l for l in done.stdout.splitlines() if l.strip()]
             return job, None, done.returncode, lines[-1] if lines else ""
@@ -35,20 +40,27 @@ def run_job(command, job):
 
 
 def split_out(command):
-    """The job command without its --out DIR, and DIR."""
+    """The job command without its --out DIR, and DIR (a ScriptError when it has none)."""
+    if "--out" not in command or command.index("--out") + 1 >= len(command):
+        raise ScriptError("the rtusim command after -- has no --out DIR")
     i = command.index("--out")
     return command[:i] + command[i + 2:], Path(command[i + 1])
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = parser(__doc__)
     ap.add_argument("--scheduler", required=True)
     ap.add_argument("--jobs", required=True, help="comma-separated job indices")
-    ap.add_argument("command", nargs=argparse.REMAINDER)
+    ap.add_argument("command", nargs="...")
     a = ap.parse_args()
     command = a.command[1:] if a.command[:1] == ["--"] else a.command
     command, out_dir = split_out(command)
-    jobs = [int(j) for j in a.jobs.split(",") if j != ""]
+    try:
+        jobs = [int(j) for j in a.jobs.split(",") if j != ""]
+    except ValueError:
+        raise ScriptError(f"--jobs {a.jobs}: not a comma-separated list of job indices")
+    if not (out_dir / "jobs").is_dir():
+        raise ScriptError(f"--out {out_dir}: no jobs/ folder (not a planned sweep directory)")
     if not jobs:
         return 0
     try:
@@ -66,7 +78,10 @@ def main():
         print(f"rtusim: --scheduler {a.scheduler}: cannot connect ({reason})", file=sys.stderr)
         return 2
     with client:
-        futures = [client.submit(run_job, command, j, pure=False, key=f"rtusim-sweep-job-{j}-{os.getpid()}")
+        # Keys unique to this driver: two drivers on one scheduler must not share a task (a PID
+        # alone is not unique across hosts or containers).
+        run_id = uuid.uuid4().hex
+        futures = [client.submit(run_job, command, j, pure=False, key=f"rtusim-sweep-job-{j}-{run_id}")
                    for j in jobs]
         done = 0
         for future in as_completed(futures):
@@ -91,4 +106,4 @@ def main():
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(guarded(main))

@@ -5,16 +5,21 @@ From DIR/results.csv and DIR/sweep.toml (which columns were swept):
   miss_ratio_curves[_<case>].png  node DRAM bytes per ray (log axis) against L1 size (log2 axis), one line
                                   per associativity, one panel per layout x line size; one file
                                   per combination of the other swept keys (a scene, ...)
-  layout_comparison.png           node DRAM bytes per ray of each layout at the default cache
-                                  (8 KB, 4-way, 64 B, LRU), per combination of the other keys
+  layout_comparison.png           node DRAM bytes per ray of each layout at the base config's
+                                  node L1 (DIR/base.toml; the default cache, 8 KB, 4-way, 64 B,
+                                  LRU, when the base's is not among the points), per combination
+                                  of the other keys
+Bad input (a file missing or not parsing, a column missing, a value not a number) is one line and
+exit status 2, before any plot is written.
 """
-import argparse
 import csv
 import re
 import sys
 import tomllib
 from collections import defaultdict
 from pathlib import Path
+
+from script_cli import ScriptError, guarded, parser, save_figure
 
 plt = None  # matplotlib.pyplot, imported once the arguments are known to be good
 
@@ -24,9 +29,38 @@ CURVE_KEYS = ("layout.kind", "l1.line", "l1.assoc", "l1.size", "l1.policy")
 DEFAULT_CACHE = {"l1.size": "8192", "l1.assoc": "4", "l1.line": "64", "l1.policy": "lru"}
 
 
+def read_toml(path):
+    """A TOML file's table; a ScriptError naming the file when it does not parse."""
+    try:
+        return tomllib.loads(path.read_text())
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as e:
+        raise ScriptError(f"{path}: {e}")
+
+
+def base_cache(base_path):
+    """The base config's node L1 as the CSV writes it (the default cache for keys it leaves out)."""
+    l1 = read_toml(base_path).get("l1", {}) if base_path.is_file() else {}
+    return {k: str(l1.get(k.split(".")[1], v)) for k, v in DEFAULT_CACHE.items()}
+
+
+def check_rows(path, rows, swept):
+    """Every row has the plotted column and numbers where the plots need them."""
+    numeric = [Y_KEY] + [k for k in ("l1.size", "l1.line") if k in swept]
+    for line, r in enumerate(rows, start=2):
+        for k in numeric:
+            try:
+                float(r[k] or "")
+            except KeyError:
+                raise ScriptError(f"{path}: no column {k}")
+            except ValueError:
+                raise ScriptError(f"{path}:{line}: {k}: {r[k]!r} is not a number")
+        if "l1.assoc" in swept and r["l1.assoc"] != "full" and not r["l1.assoc"].isdigit():
+            raise ScriptError(f"{path}:{line}: l1.assoc: {r['l1.assoc']!r} is not a number or full")
+
+
 def swept_keys(spec_path):
     """The swept keys of a spec, as the CSV names them."""
-    sweep = tomllib.loads(spec_path.read_text()).get("sweep", {})
+    sweep = read_toml(spec_path).get("sweep", {})
     keys = []
 
     def flatten(table, prefix, out):
@@ -65,23 +99,29 @@ def size_label(b):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = parser(__doc__)
     ap.add_argument("dir", type=Path, help="a finished sweep's directory (its results.csv, sweep.toml)")
     out = ap.parse_args().dir
     for name in ("results.csv", "sweep.toml"):
         if not (out / name).is_file():
-            print(f"sweep_plot.py: {out / name}: not found (DIR must be a finished `rtusim sweep` "
-                  f"directory)", file=sys.stderr)
-            return 2
+            raise ScriptError(f"{out / name}: not found (DIR must be a finished `rtusim sweep` "
+                              f"directory)")
+    try:
+        with open(out / "results.csv", newline="") as f:
+            rows = list(csv.DictReader(f))
+    except (OSError, UnicodeDecodeError, csv.Error) as e:
+        raise ScriptError(f"{out / 'results.csv'}: {e}")
+    if not rows:
+        raise ScriptError(f"{out / 'results.csv'}: no rows (the sweep has not finished)")
+    header = list(rows[0].keys())
+    swept = [k for k in swept_keys(out / "sweep.toml") if k in header]
+    check_rows(out / "results.csv", rows, swept)
+    base = base_cache(out / "base.toml")
+    other = [k for k in swept if k not in CURVE_KEYS]
     global plt
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    with open(out / "results.csv", newline="") as f:
-        rows = list(csv.DictReader(f))
-    header = list(rows[0].keys()) if rows else []
-    swept = [k for k in swept_keys(out / "sweep.toml") if k in header]
-    other = [k for k in swept if k not in CURVE_KEYS]
     written = []
 
     def case_of(row):
@@ -97,17 +137,17 @@ def main():
             cases[case_of(r)].append(r)
         for case, rs in cases.items():
             layouts = list(dict.fromkeys(r.get("layout.kind", "") for r in rs))
-            lines = sorted({r.get("l1.line", "") for r in rs}, key=lambda v: int(v or 0))
+            lines = sorted({r.get("l1.line", base["l1.line"]) for r in rs}, key=int)
             fig, axes = plt.subplots(len(layouts), len(lines), squeeze=False, sharex=True,
                                      sharey=True, figsize=(4.2 * len(lines), 3.2 * len(layouts)))
             for i, layout in enumerate(layouts):
                 for j, line in enumerate(lines):
                     ax = axes[i][j]
                     panel = [r for r in rs if r.get("layout.kind", "") == layout
-                             and r.get("l1.line", "") == line]
+                             and r.get("l1.line", base["l1.line"]) == line]
                     curves = defaultdict(list)
                     for r in panel:
-                        curves[(r.get("l1.policy", ""), r.get("l1.assoc", ""))].append(r)
+                        curves[(r.get("l1.policy", ""), r.get("l1.assoc", base["l1.assoc"]))].append(r)
                     for (policy, assoc), pts in sorted(curves.items(),
                                                        key=lambda kv: (kv[0][0], assoc_order(kv[0][1] or "0"))):
                         pts.sort(key=lambda r: int(r["l1.size"]))
@@ -119,7 +159,7 @@ def main():
                     ax.set_yscale("log")
                     sizes = sorted({int(r["l1.size"]) for r in panel})
                     ax.set_xticks([s / 1024 for s in sizes], [size_label(s) for s in sizes])
-                    ax.set_title(f"{layout or 'layout'}, {line or '?'} B lines", fontsize=10)
+                    ax.set_title(f"{layout or 'layout'}, {line} B lines", fontsize=10)
                     ax.grid(True, which="both", alpha=0.3)
                     if i == len(layouts) - 1:
                         ax.set_xlabel("L1 size (KB)")
@@ -132,15 +172,23 @@ def main():
             fig.suptitle(title)
             fig.tight_layout()
             name = "miss_ratio_curves" + "".join("_" + short(v) for v in case if v != "") + ".png"
-            fig.savefig(out / name, dpi=110)
+            if name in written:  # two cases with the same short name (scenes of one file stem)
+                name = name[:-4] + f"_{len(written) + 1}.png"
+            save_figure(fig, out / name, dpi=110)
             plt.close(fig)
             written.append(name)
 
-    # Layout comparison at the default cache (keys not swept are the base config's).
+    # Layout comparison at the base config's cache, else the default cache (keys not swept are
+    # the base config's).
     if "layout.kind" in swept:
-        at_default = [r for r in rows
-                      if all(r.get(k, v) == v for k, v in DEFAULT_CACHE.items() if k in swept)]
+        at_default, cache = [], base
+        for cache in (base, DEFAULT_CACHE):
+            at_default = [r for r in rows
+                          if all(r.get(k, v) == v for k, v in cache.items() if k in swept)]
+            if at_default:
+                break
         if at_default:
+            cache = {k: (at_default[0][k] if k in swept else base[k]) for k in cache}
             cases = list(dict.fromkeys(case_of(r) for r in at_default))
             layouts = list(dict.fromkeys(r["layout.kind"] for r in at_default))
             fig, ax = plt.subplots(figsize=(max(6, 1.2 * len(cases) * len(layouts)), 4.5))
@@ -156,10 +204,12 @@ def main():
             ax.set_xticks(range(len(cases)), [case_title(c, "\n") or "base config" for c in cases],
                           fontsize=8)
             ax.set_ylabel(Y_LABEL)
-            ax.set_title("Layouts at the default node L1 (8 KB, 4-way, 64 B lines, LRU)")
+            ways = "fully associative" if cache["l1.assoc"] == "full" else f"{cache['l1.assoc']}-way"
+            ax.set_title(f"Layouts at the node L1 of {size_label(cache['l1.size'])} KB, {ways}, "
+                         f"{cache['l1.line']} B lines, {cache['l1.policy'].upper()}")
             ax.legend()
             fig.tight_layout()
-            fig.savefig(out / "layout_comparison.png", dpi=110)
+            save_figure(fig, out / "layout_comparison.png", dpi=110)
             plt.close(fig)
             written.append("layout_comparison.png")
 
@@ -168,4 +218,4 @@ def main():
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(guarded(main))
