@@ -8,8 +8,10 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <optional>
 #include <limits>
+#include <optional>
+#include <set>
+#include <sstream>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -27,6 +29,9 @@
 
 namespace rtusim {
 namespace {
+
+// The largest |coordinate| of a vertex (see the check where positions are read).
+constexpr double kMaxCoordinate = 1e18;
 
 // Image callback that keeps images undecoded: the simulator never reads textures.
 bool skip_image(tinygltf::Image*, const int, std::string*, std::string*, int, int,
@@ -197,6 +202,7 @@ class GltfFlattener {
   Scene run() {
     Scene scene;
     scene.source = path_;
+    check_required_extensions();
     collect_instances();
     copy_materials(scene);
     reserve(scene);
@@ -321,6 +327,34 @@ class GltfFlattener {
     }
   }
 
+  // A file that requires an extension this loader does not read cannot be read right (the
+  // glTF spec: such a file must be refused). Extensions that only change textures or shading
+  // terms the tracer does not model are read by ignoring them.
+  void check_required_extensions() const {
+    static const std::set<std::string> understood = {
+        "KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_ior",
+        "KHR_materials_transmission", "KHR_materials_volume", "KHR_materials_specular",
+        "KHR_materials_clearcoat", "KHR_materials_sheen", "KHR_materials_iridescence",
+        "KHR_materials_unlit", "KHR_texture_transform", "KHR_texture_basisu", "EXT_texture_webp"};
+    for (const std::string& ext : model_.extensionsRequired)
+      if (!understood.count(ext)) fail("requires extension " + ext + ", which rtusim does not read");
+  }
+
+  // A material factor outside the glTF spec's range would make the tracer add energy (an ior
+  // below 1 gives a Fresnel reflectance above 1): refused, naming the material.
+  void check_factor(size_t index, const tinygltf::Material& m, const char* what, double value,
+                    double low, double high) const {
+    if (!(value >= low && value <= high))
+      fail("material " + std::to_string(index) + (m.name.empty() ? "" : " '" + m.name + "'") +
+           ": " + what + " " + format_number(value) + " is not in [" + format_number(low) +
+           ", " + (std::isinf(high) ? std::string("inf") : format_number(high)) + "]");
+  }
+  static std::string format_number(double v) {
+    std::ostringstream os;
+    os << v;
+    return os.str();
+  }
+
   // Materials keep their glTF indices; the glTF default material is appended on demand.
   void copy_materials(Scene& scene) const {
     scene.materials.reserve(model_.materials.size() + 1);
@@ -341,6 +375,17 @@ class GltfFlattener {
         out.transmission = static_cast<float>(number_or(it->second, "transmissionFactor", 0.0));
       if (auto it = m.extensions.find("KHR_materials_ior"); it != m.extensions.end())
         out.ior = static_cast<float>(number_or(it->second, "ior", 1.5));
+      const size_t i = scene.materials.size();
+      const double inf = std::numeric_limits<double>::infinity();
+      for (size_t c = 0; c < pbr.baseColorFactor.size(); ++c)
+        check_factor(i, m, "baseColorFactor", pbr.baseColorFactor[c], 0.0, 1.0);
+      check_factor(i, m, "metallicFactor", pbr.metallicFactor, 0.0, 1.0);
+      check_factor(i, m, "roughnessFactor", pbr.roughnessFactor, 0.0, 1.0);
+      for (const double e : m.emissiveFactor) check_factor(i, m, "emissiveFactor", e, 0.0, 1.0);
+      if (auto it = m.extensions.find("KHR_materials_emissive_strength"); it != m.extensions.end())
+        check_factor(i, m, "emissiveStrength", number_or(it->second, "emissiveStrength", 1.0), 0.0, inf);
+      check_factor(i, m, "transmissionFactor", out.transmission, 0.0, 1.0);
+      check_factor(i, m, "ior", out.ior, 1.0, inf);
       scene.materials.push_back(out);
     }
   }
@@ -491,6 +536,11 @@ class GltfFlattener {
       if (!std::isfinite(w.x) || !std::isfinite(w.y) || !std::isfinite(w.z))
         fail("accessor " + std::to_string(pos_it->second) + " (POSITION " + where + "): element " +
              std::to_string(i) + " is not a finite position");
+      // Beyond this the ray/triangle test's float products overflow (the camera's own limit
+      // is ~1e19): refused rather than rays missing triangles.
+      if (std::max({std::abs(w.x), std::abs(w.y), std::abs(w.z)}) > kMaxCoordinate)
+        fail("accessor " + std::to_string(pos_it->second) + " (POSITION " + where + "): element " +
+             std::to_string(i) + " lies beyond +-1e18, too far out for single precision");
       scene.positions.push_back(w);
       if (!has_normals) {
         scene.normals.emplace_back(0.0f);
@@ -580,7 +630,13 @@ class GltfFlattener {
                : !cam.name.empty() ? cam.name
                                    : "camera" + std::to_string(inst.node);
     out.eye = glm::vec3(eye);
+    // The target one unit ahead (the profile layout's training view turns about it), or, where
+    // float rounding would bend that step (an eye far from the origin: at 1e6 by ~1 degree, at
+    // 3e7 the target equals the eye), as far ahead as the eye is from the origin.
     out.target = glm::vec3(eye + forward);
+    const glm::dvec3 step = glm::dvec3(out.target) - glm::dvec3(out.eye);
+    if (!(glm::length(step) > 0.0) || glm::dot(glm::normalize(step), forward) < std::cos(1e-6))
+      out.target = glm::vec3(eye + forward * glm::length(eye));
     out.up = glm::vec3(glm::normalize(linear * glm::dvec3(0.0, 1.0, 0.0)));
     out.vfov_deg = static_cast<float>(glm::degrees(cam.perspective.yfov));
     scene.cameras.push_back(out);

@@ -9,6 +9,7 @@
 #include <immintrin.h>
 
 #include <cstdint>
+#include <limits>
 
 #include "traversal/packet_simd8.h"
 #include "traversal/watertight_triangle.h"
@@ -123,9 +124,10 @@ class WatertightLanes8 {
                           _mm256_mul_ps(delta_z, max_e))),
         abs(inv));
     const __m256 t = _mm256_mul_ps(T, inv);
-    // t to be refined in double: the single-ray code.
-    const __m256 refine =
-        _mm256_cmp_ps(abs(t), _mm256_mul_ps(_mm256_set1_ps(kRefineAbove), delta_t), _CMP_LE_OQ);
+    // t to be refined in double, or T overflowed: the single-ray code.
+    const __m256 refine = _mm256_or_ps(
+        _mm256_cmp_ps(abs(T), _mm256_set1_ps(std::numeric_limits<float>::max()), _CMP_NLE_UQ),
+        _mm256_cmp_ps(abs(t), _mm256_mul_ps(_mm256_set1_ps(kRefineAbove), delta_t), _CMP_LE_OQ));
     // t_in_range(): T against (0, t_max det), then t itself against (0, t_max).
     const __m256 T_limit = _mm256_mul_ps(t_max, det);
     const __m256 positive = _mm256_cmp_ps(det, zero, _CMP_GT_OQ);

@@ -3,6 +3,7 @@
 #pragma once
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <utility>
 #if defined(__SSE2__)
 #include <immintrin.h>
@@ -206,7 +207,10 @@ template <class Vertices>
   const float max_e = max3(std::abs(U), std::abs(V), std::abs(W));
   const float delta_t =
       3.0f * (gamma_f(3) * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * std::abs(inv);
-  if (std::abs(T * inv) <= kRefineAbove * delta_t) [[unlikely]] {
+  // T overflows float (from coordinates of ~1e12 on, its terms growing as their cube) while
+  // t itself is fine: the double path too.
+  if (!(std::abs(T) <= std::numeric_limits<float>::max()) |
+      (std::abs(T * inv) <= kRefineAbove * delta_t)) [[unlikely]] {
     float xyz[9];
     for (int i = 0; i < 9; ++i) xyz[i] = v[i];
     const double td = watertight_detail::refine_t(r, xyz);

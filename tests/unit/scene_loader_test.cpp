@@ -425,6 +425,62 @@ TEST_F(SceneLoaderTest, CameraFromNode) {
   expect_near(s.cameras[1].target, {1, 2, 2});
 }
 
+// A camera far from the origin keeps its view direction (a unit step ahead of an eye at 1e6
+// rounded to a target ~1 degree off; at 3e7 to the eye itself, and the camera was refused).
+TEST_F(SceneLoaderTest, FarCameraKeepsItsDirection) {
+  for (const double d : {1e6, 3e7}) {
+    GltfBuilder b;
+    b.simple_mesh("tri", kTriangle);
+    b.doc["cameras"] = json::array({{{"type", "perspective"}, {"perspective", {{"yfov", 0.5}, {"znear", 0.01}}}}});
+    // Turned 30 degrees about +Y: the view direction -Z becomes (-sin 30, 0, -cos 30).
+    const double half = 15.0 * 3.14159265358979 / 180.0;
+    b.scene({b.node({{"mesh", 0}}),
+             b.node({{"name", "far"}, {"camera", 0}, {"translation", {d, 0.2 * d, 0.3 * d}},
+                     {"rotation", {0.0, std::sin(half), 0.0, std::cos(half)}}})});
+    const Scene s = load_gltf(b.write_gltf(dir_ / "far.gltf"));
+    ASSERT_EQ(s.cameras.size(), 1u);
+    const glm::dvec3 f = glm::normalize(glm::dvec3(s.cameras[0].target) - glm::dvec3(s.cameras[0].eye));
+    const glm::dvec3 want(-std::sin(2 * half), 0.0, -std::cos(2 * half));
+    EXPECT_LT(std::acos(std::min(1.0, glm::dot(f, want))), 1e-5) << "view direction off at " << d;
+  }
+}
+
+// Material factors outside the glTF spec's ranges (an ior below 1 made a Fresnel reflectance
+// of 25), a required extension the loader does not read, and vertices beyond 1e18 (the
+// triangle test's products overflow) are refused, naming what is wrong.
+TEST_F(SceneLoaderTest, OutOfRangeFactorsExtensionsAndCoordinatesAreRefused) {
+  const auto with_material = [&](const std::string& name, json material) {
+    GltfBuilder b;
+    const int p = b.vec3s(kTriangle);
+    b.doc["materials"] = json::array({material});
+    b.mesh("m", json::array({{{"attributes", {{"POSITION", p}}}, {"material", 0}}}));
+    b.scene({b.node({{"mesh", 0}})});
+    return b.write_gltf(dir_ / name);
+  };
+  expect_input_error(with_material("ior.gltf", json::parse(R"({"name": "bad glass",
+                       "extensions": {"KHR_materials_ior": {"ior": -1.5}}})")),
+                     "material 0 'bad glass': ior -1.5");
+  expect_input_error(with_material("metal.gltf", json::parse(R"({"pbrMetallicRoughness":
+                       {"metallicFactor": 5.0}})")),
+                     "material 0: metallicFactor 5");
+  expect_input_error(with_material("colour.gltf", json::parse(R"({"pbrMetallicRoughness":
+                       {"baseColorFactor": [-0.5, 0.2, 0.2, 1.0]}})")),
+                     "baseColorFactor -0.5");
+  expect_input_error(with_material("transmission.gltf", json::parse(R"({"extensions":
+                       {"KHR_materials_transmission": {"transmissionFactor": 2.0}}})")),
+                     "transmissionFactor 2");
+  GltfBuilder b;
+  b.simple_mesh("tri", kTriangle);
+  b.scene({b.node({{"mesh", 0}})});
+  b.doc["extensionsUsed"] = {"KHR_draco_mesh_compression"};
+  b.doc["extensionsRequired"] = {"KHR_draco_mesh_compression"};
+  expect_input_error(b.write_gltf(dir_ / "draco.gltf"), "requires extension KHR_draco_mesh_compression");
+  GltfBuilder far;
+  far.simple_mesh("tri", {{0, 0, 0}, {2e18f, 0, 0}, {0, 1, 0}});
+  far.scene({far.node({{"mesh", 0}})});
+  expect_input_error(far.write_gltf(dir_ / "huge.gltf"), "element 1 lies beyond +-1e18");
+}
+
 // Each mesh's triangles sit at x = their expected id, so the id order is visible in positions.
 TEST_F(SceneLoaderTest, TriangleIdsFollowLoadOrder) {
   GltfBuilder b;

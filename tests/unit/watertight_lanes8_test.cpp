@@ -29,14 +29,15 @@ struct Counts {
 
 // `rounds` triangles, each against 8 lanes of rays from `make_ray(rng, v, lane, o, d)`.
 template <class MakeRay>
-Counts compare_rounds(uint32_t seed, int rounds, bool coarse, MakeRay make_ray) {
+Counts compare_rounds(uint32_t seed, int rounds, bool coarse, MakeRay make_ray,
+                      float scale = 1.0f) {
   std::mt19937 rng(seed);
   Counts n;
   for (int round = 0; round < rounds; ++round) {
     // The triangle's nine floats with a guard float after them (the test reads floats 1..8 as
     // one 8-float load: nothing past the ninth).
     alignas(32) std::array<float, 10> v{};
-    for (int i = 0; i < 9; ++i) v[i] = testing::random_coordinate(rng, coarse);
+    for (int i = 0; i < 9; ++i) v[i] = scale * testing::random_coordinate(rng, coarse);
     if (round % 5 == 0) v[3 + rng() % 6] = v[rng() % 3];  // a degenerate (or sliver) member
     v[9] = std::numeric_limits<float>::quiet_NaN();
     WatertightLanes8 lanes;
@@ -50,7 +51,7 @@ Counts compare_rounds(uint32_t seed, int rounds, bool coarse, MakeRay make_ray) 
       lanes.set_lane(lane, rays[lane]);
       n.permutations |= 1u << (rays[lane].kz * 2 + (rays[lane].kx > rays[lane].ky));
       t_max[lane] = rng() % 3 == 0 ? std::numeric_limits<float>::infinity()
-                                   : std::uniform_real_distribution<float>(0.0f, 16.0f)(rng);
+                                   : scale * std::uniform_real_distribution<float>(0.0f, 16.0f)(rng);
       todo_bits[lane] = rng() % 6 == 0 ? 0 : -1;
     }
     const WatertightLanes8::Outcome o = lanes.test(
@@ -125,6 +126,27 @@ TEST(WatertightLanes8, EdgeAndPlaneCasesGoToTheSingleRayTestOrMatchIt) {
   });
   EXPECT_GT(n.hits, 500);
   EXPECT_GT(n.scalar, 1000);  // the rare paths were reached
+}
+
+
+TEST(WatertightLanes8, OverflowingLanesGoToTheSingleRayTestOrMatchIt) {
+  // Coordinates of ~1e13: T = t det overflows float; such lanes are the single-ray code's.
+  int hits = 0;
+  for (const float scale : {3e12f, 1e13f, 1e14f}) {
+    const Counts n = compare_rounds(23, 2000, false, [scale](std::mt19937& rng, const float* v,
+                                                             int, float* o, float* d) {
+      const float a = std::uniform_real_distribution<float>(0.1f, 0.4f)(rng);
+      const float b = std::uniform_real_distribution<float>(0.1f, 0.4f)(rng);
+      for (int k = 0; k < 3; ++k) {
+        const float target = v[k] + a * (v[3 + k] - v[k]) + b * (v[6 + k] - v[k]);
+        o[k] = scale * testing::random_coordinate(rng, false) * 3.0f;
+        d[k] = (target - o[k]) / scale;
+      }
+    }, scale);
+    EXPECT_GT(n.scalar, 1000) << "scale " << scale;
+    hits += n.hits;
+  }
+  RecordProperty("float_hits", std::to_string(hits));
 }
 
 #else

@@ -132,5 +132,27 @@ TEST(WatertightTest, GrazingHitsHaveBoundedRelativeError) {
   EXPECT_GT(checked, 10000);
 }
 
+// Scenes in large units: T = t * det grows as the cube of the coordinates and overflows float
+// from ~1e12 on while t does not; such hits must not be lost (they were from 3e12 to 1e14).
+TEST(WatertightTest, HitsAtLargeScalesAreKept) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f), inside(0.1f, 0.4f);
+  for (const float scale : {1.0f, 1e6f, 1e11f, 1e12f, 3e12f, 1e13f, 1e14f, 1e15f, 1e16f, 1e18f}) {
+    for (int i = 0; i < 200; ++i) {
+      const Vec a = scale * Vec(unit(rng), unit(rng), unit(rng));
+      const Vec b = a + scale * Vec(1.0f, unit(rng) * 0.2f, 0.1f * unit(rng));
+      const Vec c = a + scale * Vec(unit(rng) * 0.2f, 1.0f, 0.1f * unit(rng));
+      const Vec p = a + inside(rng) * (b - a) + inside(rng) * (c - a);
+      const Vec o = p + scale * Vec(unit(rng), unit(rng), 4.0f);
+      const Vec d = glm::normalize(p - o);
+      const Reference ref = reference(o, d, a, b, c);
+      float t;
+      ASSERT_TRUE(hit(o, d, a, b, c, t)) << "scale " << scale << ": lost the hit at t = "
+                                         << double(ref.t);
+      ASSERT_LE(std::abs(double(t) - double(ref.t)) / double(ref.t), 1e-3) << "scale " << scale;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace rtusim
