@@ -39,6 +39,13 @@ Estimate Estimator::total(const std::vector<double>& values, const std::vector<i
   }
   Estimate e;
   const size_t taken = values.size();
+  // Every unit drawn (a census): the total is the frame's own, exactly.
+  double population = 0.0;
+  for (const double units : stratum_units_) population += units;
+  if (taken > 0 && double(taken) == population) {
+    for (const double v : values) e.value += v;
+    return e;
+  }
   bool strata_ok = true;
   for (size_t h = 0; h < h_count; ++h) strata_ok = strata_ok && n[h] >= 2.0;
   double variance = 0.0;

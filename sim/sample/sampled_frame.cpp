@@ -21,12 +21,25 @@ const char* const kRayKeys[kRayKinds] = {"rays.primary", "rays.shadow", "rays.re
 const char* const kPairedKeys[] = {"dram.bytes.nodes", "dram.bytes.total", "l1.misses",
                                    "sim.cycles", "estimate.cycles"};
 
+// The cycle tier's unit and DRAM counters: sums over rays and requests like the others.
+const char* const kUnitCounters[] = {"unit.rays",   "unit.steps",        "unit.leaf_steps",
+                                     "unit.isect_tests", "unit.events", "unit.kernel_waits",
+                                     "dram.requests", "dram.row_hits",  "dram.row_misses",
+                                     "dram.row_conflicts"};
+
+bool is_ray_key(const std::string& key) {
+  return key == "rays.total" || std::find(std::begin(kRayKeys), std::end(kRayKeys), key) !=
+                                    std::end(kRayKeys);
+}
+
 }  // namespace
 
 bool SampledFrame::is_extensive(const std::string& key) {
-  if (key.rfind("rays.", 0) == 0 || key.rfind("dram.bytes.", 0) == 0 ||
-      key.rfind("fetch.", 0) == 0 || key.rfind("traversal.", 0) == 0 || key == "sim.cycles")
+  if (is_ray_key(key) || key.rfind("dram.bytes.", 0) == 0 || key.rfind("fetch.", 0) == 0 ||
+      key.rfind("traversal.", 0) == 0 || key == "sim.cycles")
     return true;
+  for (const char* counter : kUnitCounters)
+    if (key == counter) return true;
   // The timed interleaved mode's estimate.* (TimedInterleaver): its clock runs on from one
   // trace() to the next and its miss and stall counts only grow, so a unit's change of each is
   // its share of the frame's figure, as for sim.cycles.
@@ -153,6 +166,9 @@ Estimate SampledFrame::estimate(const LayoutSample& sample,
 }
 
 std::pair<double, std::string> SampledFrame::widest_ci(const LayoutSample& sample) const {
+  // In wavefront order rays.* are counted exactly: a target on one is met with no width.
+  if (order_ == RayOrder::kWavefront && is_ray_key(params_.target_key))
+    return {0.0, params_.target_key};
   std::pair<double, std::string> widest{0.0, ""};
   for (const auto& [key, values] : sample.values) {
     if (!params_.target_key.empty() && key != params_.target_key) continue;
@@ -187,18 +203,22 @@ FrameResult SampledFrame::render(const Scene& scene, const TracerParams& tracer_
     trace_round(0, n);
     rounds_.push_back(n);
     // In wavefront order rays.* are counted exactly: a target on them is met at once.
-    const bool exact_key =
-        order_ == RayOrder::kWavefront && params_.target_key.rfind("rays.", 0) == 0;
+    const bool exact_key = order_ == RayOrder::kWavefront && is_ray_key(params_.target_key);
     if (!params_.target_key.empty() && !exact_key && !sample.values.count(params_.target_key))
       throw InputError(params_.target_key_origin + ": sample.target_key: '" + params_.target_key +
                        "' is not measured by this tier");
     while (params_.target_ci > 0.0 && n < cap) {
       const double w = widest_ci(sample).first;
       if (w <= params_.target_ci) break;
-      // The half-width shrinks as 1/sqrt(n): aim 10% past the units that should reach it.
-      const double wanted = std::isfinite(w) ? double(n) * (w / params_.target_ci) *
-                                                   (w / params_.target_ci) * 1.1
-                                             : 2.0 * double(n);
+      // The half-width goes as sqrt((1 - n/N) / n) (the finite-population correction: without
+      // it rounds overshot by about 2x): aim 10% past the units that should reach it.
+      double wanted = 2.0 * double(n);
+      if (std::isfinite(w)) {
+        const double big_n = double(plan_.size());
+        const double q = (1.0 - double(n) / big_n) / double(n) *
+                         (params_.target_ci / w) * (params_.target_ci / w);
+        wanted = 1.1 / (q + 1.0 / big_n);
+      }
       const size_t next = std::min(cap, std::max(n + 1, size_t(std::ceil(wanted))));
       trace_round(n, next);
       rounds_.push_back(n = next);
@@ -218,6 +238,7 @@ FrameResult SampledFrame::render(const Scene& scene, const TracerParams& tracer_
 
 void SampledFrame::finish_layout(FrameResult& frame, Stats& stats) const {
   const LayoutSample& sample = layouts_.back();
+  const Stats measured = stats;  // the tier's own counts: the measured and the warming rays'
   for (const auto& [key, values] : sample.values) {
     const Estimate e = estimate(sample, values);
     stats.set(key, e.value);
@@ -237,10 +258,36 @@ void SampledFrame::finish_layout(FrameResult& frame, Stats& stats) const {
       stats.set(key + ".ci95_high", rays);
     }
   } else {
+    // One primary ray per pixel: known, not estimated (units of unequal size made a
+    // zero-width CI that missed it).
+    const double primary = double(width_) * height_;
+    stats.set("rays.primary", primary);
+    stats.set("rays.primary.ci95_low", primary);
+    stats.set("rays.primary.ci95_high", primary);
     for (int k = 0; k < kRayKinds; ++k)
-      frame.rays_by_kind[k] = static_cast<uint64_t>(
-          std::llround(estimate(sample, sample.values.at(kRayKeys[k])).value));
+      frame.rays_by_kind[k] = static_cast<uint64_t>(std::llround(
+          k == 0 ? primary : estimate(sample, sample.values.at(kRayKeys[k])).value));
   }
+  // Figures derived from counts, from the estimated counts: a rate over simulated time scales
+  // with its count and inversely with the cycles; the shares are ratios of estimates.
+  const auto number = [](const Stats& s, const std::string& key) {
+    return s.has(key) && s.at(key).is_number() ? s.at(key).get<double>() : 0.0;
+  };
+  const auto rescale = [&](const char* rate, const char* count) {
+    const double c0 = number(measured, count), y0 = number(measured, "sim.cycles");
+    const double c1 = number(stats, count), y1 = number(stats, "sim.cycles");
+    if (stats.has(rate) && c0 > 0 && y0 > 0 && y1 > 0)
+      stats.set(rate, number(measured, rate) * (c1 / c0) * (y0 / y1));
+  };
+  rescale("sim.rays_per_second", "unit.rays");
+  rescale("dram.gbytes_per_second", "dram.bytes.total");
+  if (stats.has("dram.row_hit_rate")) {
+    const double rows = number(stats, "dram.row_hits") + number(stats, "dram.row_misses") +
+                        number(stats, "dram.row_conflicts");
+    stats.set("dram.row_hit_rate", rows > 0 ? number(stats, "dram.row_hits") / rows : 0.0);
+  }
+  if (stats.has("unit.utilisation") && number(stats, "sim.cycles") > 0)
+    stats.set("unit.utilisation", number(stats, "unit.steps") / number(stats, "sim.cycles"));
   const auto [w, key] = widest_ci(sample);
   stats.set("sample.achieved_ci", w);
   stats.set("sample.achieved_ci_key", key);

@@ -131,6 +131,34 @@ lows = {k: v for k, v in s.items() if k.endswith(".ci95_low") and not k.startswi
 assert lows and min(lows.values()) >= 0, sorted(lows.items(), key=lambda kv: kv[1])[:3]
 assert 0 in lows.values(), "no interval reached zero: the case no longer tests the floor"
 PY
+# Found by a helper's audit: a sampled cycle-tier run estimates its unit and DRAM counters too
+# (they were the measured and warming rays' raw counts), and its rates from the estimates;
+# rays.primary is known exactly in recursive order with units of unequal size; a wavefront
+# target on an unknown rays.* key is refused; target rounds count the finite population.
+c=(--set image.width=64 --set image.height=64)
+"$rtusim" run "$src/configs/default.toml" "${c[@]}" --set sim.tier=cycle --set sample.rate=0.25 --out "$tmp/cyc" > /dev/null 2>&1
+"$rtusim" run "$src/configs/default.toml" "${c[@]}" --set sample.method=random --set sample.unit_pixels=30 \
+  --set sample.rate=0.3 --out "$tmp/uneq" > /dev/null 2>&1
+"$rtusim" run "$src/configs/default.toml" --set image.width=128 --set image.height=128 --set 'layout.kind=["cluster"]' \
+  --set sample.target_ci=0.2 --set sample.target_key=dram.bytes.nodes --out "$tmp/fpc" > /dev/null 2>&1
+if "$rtusim" run "$src/configs/default.toml" "${c[@]}" --set tracer.ray_order=wavefront --set sample.target_ci=0.01 \
+     --set sample.rate=0.5 --set 'sample.target_key="rays.bogus"' --out "$tmp/bogus" 2> "$tmp/bogus.err"; then
+  echo "FAIL: target_key rays.bogus accepted"; exit 1
+fi
+grep -q "sample.target_key: 'rays.bogus'" "$tmp/bogus.err"; [ ! -e "$tmp/bogus" ]
+python3 - "$tmp/cyc/stats.json" "$tmp/uneq/stats.json" "$tmp/fpc/stats.json" <<'PY'
+import json, sys
+c, u, f = (json.load(open(p)) for p in sys.argv[1:4])
+for k in ("unit.rays", "unit.steps", "unit.isect_tests", "dram.requests", "dram.row_hits"):
+    assert c[k + ".ci95_low"] <= c[k] <= c[k + ".ci95_high"], k
+assert c["unit.steps"] == c["traversal.node_fetches"], (c["unit.steps"], c["traversal.node_fetches"])
+assert abs(c["unit.utilisation"] - c["unit.steps"] / c["sim.cycles"]) < 1e-12
+rows = c["dram.row_hits"] + c["dram.row_misses"] + c["dram.row_conflicts"]
+assert abs(c["dram.row_hit_rate"] - c["dram.row_hits"] / rows) < 1e-12
+assert u["rays.primary"] == 64 * 64 == u["rays.primary.ci95_low"] == u["rays.primary.ci95_high"]
+assert f["sample.units"] < 300, f"target rounds overshoot: {f['sample.units']} of 512 units for 0.2"
+assert f["sample.target_met"] is True
+PY
 # Interleaved functional mode.
 w=(--set image.width=48 --set image.height=40 --set tracer.ray_order=wavefront)
 "$rtusim" run "$src/configs/default.toml" "${w[@]}" --out "$tmp/f" > /dev/null

@@ -33,6 +33,11 @@ TEST(SampleEstimator, CensusHasNoWidth) {
   const Estimate t = e.total({1, 5, 2, 2, 8}, {0, 0, 1, 1, 1});
   EXPECT_DOUBLE_EQ(t.value, 18.0);
   EXPECT_DOUBLE_EQ(t.half_width, 0.0);
+  // A census of one unit, or of fewer than min_units: exact and valid (it had an open CI).
+  const Estimate one = Estimator({1.0}, 30).total({7}, {0});
+  EXPECT_DOUBLE_EQ(one.value, 7.0);
+  EXPECT_DOUBLE_EQ(one.half_width, 0.0);
+  EXPECT_TRUE(one.valid) << one.problem;
 }
 
 TEST(SampleEstimator, StratifiedWeightsAndFlags) {
