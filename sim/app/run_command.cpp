@@ -34,13 +34,16 @@ void print_summary(const RunOptions& opts, const std::string& out_dir, const Pre
               (unsigned long long)l1.size_bytes, l1.assoc, l1.line_bytes, l1.policy.c_str(),
               p.config.report.frames_per_second);
   const bool timed = r.stats.has("sim.cycles");  // a tier that keeps time
-  std::printf("  %-8s %12s %12s %10s %11s %9s %9s", "layout", "node memory", "L1 misses",
+  int name_width = 8;  // the layout column: as wide as its longest name (subtree-bfs: 11)
+  for (const LayoutRun& run : r.layouts)
+    name_width = std::max(name_width, static_cast<int>(run.kind.size()));
+  std::printf("  %-*s %12s %12s %10s %11s %9s %9s", name_width, "layout", "node memory", "L1 misses",
               "miss rate", "node B/ray", "node MB", "node GB/s");
   if (timed) std::printf(" %12s %9s %8s", "cycles", "DRAM GB/s", "Mrays/s");
   std::printf("\n");
   for (const LayoutRun& run : r.layouts) {
     const Stats& s = run.stats;
-    std::printf("  %-8s %12llu %12llu %9.2f%% %11.1f %9.2f %9.3f", run.kind.c_str(),
+    std::printf("  %-*s %12llu %12llu %9.2f%% %11.1f %9.2f %9.3f", name_width, run.kind.c_str(),
                 s.at("tree.bytes").get<unsigned long long>(),
                 s.at("l1.misses").get<unsigned long long>(),
                 100.0 * s.at("l1.miss_rate").get<double>(),

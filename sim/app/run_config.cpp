@@ -70,6 +70,12 @@ CycleParams RunConfig::cycle() const {
   return make_cycle_params(sim.clock_mhz, unit, l1, dcache, dram, sim.vcd_path);
 }
 
+std::string layout_vcd_path(const std::string& vcd_path, const std::string& layout) {
+  const std::filesystem::path vcd(vcd_path);
+  return (vcd.parent_path() / (vcd.stem().string() + "_" + layout + vcd.extension().string()))
+      .string();
+}
+
 RunConfig load_run_config(const std::string& path, const std::vector<std::string>& overrides) {
   ConfigReader r = ConfigReader::from_file(path);
   for (const auto& o : overrides) r.apply_override(o);
@@ -128,11 +134,16 @@ RunConfig load_run_config(const std::string& path, const std::vector<std::string
   c.unit = read_unit_params(r);
   c.sim.vcd_path = read_vcd_path(r);
   // A timed tier with one layout writes the file itself (several: files beside it, named
-  // from its stem; the functional tier none).
-  std::error_code vcd_ec;
-  if (c.sim.tier != "functional" && c.layout.kinds.size() == 1 && !c.sim.vcd_path.empty() &&
-      std::filesystem::is_directory(c.sim.vcd_path, vcd_ec))
-    r.fail(KeyError("sim.vcd", c.sim.vcd_path + ": is a directory (need a file name)"));
+  // from its stem; the functional tier none): each checked before anything runs.
+  if (c.sim.tier != "functional" && !c.sim.vcd_path.empty())
+    for (const std::string& kind : c.layout.kinds) {
+      const std::string vcd_file = c.layout.kinds.size() == 1
+                                       ? c.sim.vcd_path
+                                       : layout_vcd_path(c.sim.vcd_path, kind);
+      std::error_code vcd_ec;
+      if (std::filesystem::is_directory(vcd_file, vcd_ec))
+        r.fail(KeyError("sim.vcd", vcd_file + ": is a directory (need a file name)"));
+    }
   c.dram = read_dram_params(r);
   c.functional = read_functional_params(r);
   if (c.sim.tier == "rtl") {

@@ -82,6 +82,9 @@ struct RunConfig {
 // Reads and validates `path` with `overrides` (KEY=VALUE). Throws InputError on bad input.
 RunConfig load_run_config(const std::string& path, const std::vector<std::string>& overrides);
 
+// The VCD file of `layout` in a run of several layouts: sim.vcd's stem + "_" + layout, beside it.
+std::string layout_vcd_path(const std::string& vcd_path, const std::string& layout);
+
 // Resolves a scene path: "builtin:NAME" stays; a leading $RTUSIM_SCENES (or ${RTUSIM_SCENES})
 // becomes the environment variable, or ../shared/scenes beside the project; other relative
 // paths are relative to `base_dir`.

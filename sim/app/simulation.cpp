@@ -147,12 +147,8 @@ SimulationResult simulate(const Prepared& p) {
     add_image_stats(image, run.stats);
     // The tier's params for this layout: one VCD per layout when there are several.
     TierConfig tier_config{caches, p.config.functional, cycle, static_cast<uint32_t>(w * h)};
-    if (!cycle.vcd_path.empty() && p.images.size() > 1) {
-      const std::filesystem::path vcd(cycle.vcd_path);
-      tier_config.cycle.vcd_path = (vcd.parent_path() / (vcd.stem().string() + "_" +
-                                                         image.layout + vcd.extension().string()))
-                                       .string();
-    }
+    if (!cycle.vcd_path.empty() && p.images.size() > 1)
+      tier_config.cycle.vcd_path = layout_vcd_path(cycle.vcd_path, image.layout);
     const std::unique_ptr<TierRun> tier = make_tier(p.config.sim.tier, image, tier_config);
     if (sampler) {
       runs[i].frame = sampler->render(p.scene, p.config.tracer, PinholeCamera(p.camera, w, h),

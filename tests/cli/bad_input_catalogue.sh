@@ -76,6 +76,11 @@ expect_bad cfg_directory 'adir: is a directory, not a config file' run "$in/adir
 expect_bad cfg_not_a_file '/dev/null: not a regular file' run /dev/null
 expect_bad cfg_sweep_table 'study_sweep.toml:[0-9]+: sweep.* belongs in a sweep spec: run this file with `rtusim sweep`' run "$src/configs/study_sweep.toml"
 expect_bad cfg_vcd_directory '^rtusim: --set sim.vcd=.*: sim.vcd: .*: is a directory' run "$D" --set sim.tier=cycle --set sim.vcd="$in/adir"
+# Several layouts: each layout's file (stem_<layout>) checked before any simulation (it failed
+# after the first layout had run and left its complete VCD beside the directory).
+mkdir -p "$in/lv_odfl.vcd"
+expect_bad cfg_vcd_layout_directory '^rtusim: --set sim.vcd=.*: sim.vcd: .*lv_odfl.vcd: is a directory' run "$D" --set sim.tier=cycle --set sim.vcd="$in/lv.vcd" --set 'layout.kind=["dfl","odfl"]'
+[ ! -e "$in/lv_dfl.vcd" ] || bad "cfg_vcd_layout_directory: lv_dfl.vcd written"
 expect_bad cli_replay_key_list 'l1.mshrs: unknown key \(replay takes l1.size, l1.assoc, l1.line, l1.policy and l1.seed\)' "$rtusim" replay "$in/good.bin" --set l1.mshrs=3
 expect_bad cli_trace_layouts_set '^rtusim: --set layout.kind=.*: layout.kind: trace takes one layout' "$rtusim" trace "$D" --set 'layout.kind=["dfl","odfl"]' --out "$tmp/new.din"
 expect_bad cfg_set_value '--set tracer.max_depth=x' run "$D" --set tracer.max_depth=x
