@@ -51,12 +51,17 @@ void TimedInterleaver::add(const TimedEngine::Window& w) {
 }
 
 void TimedInterleaver::record(std::span<const RayRecord> rays, size_t begin, size_t end,
-                              size_t first_hit, std::span<Hit> hits, RayStepLog& log) const {
+                              size_t first_hit, std::span<Hit> hits, RayStepLog& log,
+                              StreamFetches* own_fetches) const {
   log.clear();
   with_layout_decoder(image_, [&]<class Decoder>() {
     for (size_t i = begin; i < end; ++i) {
+      const StreamFetches before = log.fetches();
       const Hit h = log.record<Decoder>(image_, rays[i]);
-      if (i >= first_hit) hits[i] = h;
+      if (i < first_hit) continue;
+      hits[i] = h;
+      if (own_fetches)
+        for (size_t k = 0; k < before.size(); ++k) (*own_fetches)[k] += log.fetches()[k] - before[k];
     }
   });
 }
@@ -89,7 +94,9 @@ void TimedInterleaver::trace_runs(std::span<const RayRecord> rays, std::span<Hit
     std::unique_ptr<TimedEngine> engine;
     std::unique_ptr<FetchCache> caches;  // run 0: the batch's own
     std::vector<std::pair<uint32_t, uint64_t>> charges;  // (pixel, DRAM bytes), in order
+    StreamFetches own_fetches{};  // its own rays' fetches (not the warming rays')
   };
+  const FetchCache::Counters before = caches.counters();
   std::vector<Run> runs(k);
   for (size_t j = 0; j < k; ++j) {
     Run& r = runs[j];
@@ -115,7 +122,7 @@ void TimedInterleaver::trace_runs(std::span<const RayRecord> rays, std::span<Hit
     RayStepLog log;
     for (size_t begin = from; begin < r.end; begin += kRaysPerChunk) {
       const size_t end = std::min(begin + kRaysPerChunk, r.end);
-      record(rays, begin, end, r.begin, hits, log);  // a warming ray's hit is another run's
+      record(rays, begin, end, r.begin, hits, log, &r.own_fetches);  // a warming ray's hit is another run's
       r.engine->time(log, end == r.end, c, keep);
     }
   });
@@ -128,6 +135,12 @@ void TimedInterleaver::trace_runs(std::span<const RayRecord> rays, std::span<Hit
     if (j > 0)
       for (int s = 0; s < FetchCache::kStreams; ++s)
         total[s] += runs[j].engine->window().counters[s];
+  }
+  // Fetch counts are the traversal's, not the cache model's: exact from the runs' own rays
+  // (the windows count a fetch twice or not at all where a ray is in flight across a cut).
+  for (int s = 0; s < FetchCache::kStreams; ++s) {
+    total[s].fetches = before[s].fetches;
+    for (const Run& r : runs) total[s].fetches += r.own_fetches[s];
   }
   caches.take_lines(*runs[k - 1].caches, total);
   engine_ = std::move(runs[k - 1].engine);

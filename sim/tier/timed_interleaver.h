@@ -20,6 +20,7 @@
 // last run's model and caches. k depends on the batch and the keys only, never on the threads:
 // the figures are the same for any thread count.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -65,10 +66,12 @@ class TimedInterleaver {
   // The batch in k runs on any thread.
   void trace_runs(std::span<const RayRecord> rays, std::span<Hit> hits, FetchCache& caches,
                   const Charge& charge, size_t k);
+  // Fetches per stream (index: Stream).
+  using StreamFetches = std::array<uint64_t, 3>;
   // Records rays [begin, end) into `log` (cleared first); the hits of those from first_hit on
-  // into hits.
+  // into hits, and their fetches added to *own_fetches when given.
   void record(std::span<const RayRecord> rays, size_t begin, size_t end, size_t first_hit,
-              std::span<Hit> hits, RayStepLog& log) const;
+              std::span<Hit> hits, RayStepLog& log, StreamFetches* own_fetches = nullptr) const;
   void add(const TimedEngine::Window& w);
 
   const MemoryImage& image_;

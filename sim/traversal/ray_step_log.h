@@ -11,6 +11,7 @@
 // and its bytes in two more words.
 #pragma once
 #include <cstddef>
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -39,7 +40,11 @@ class RayStepLog {
   void clear() {
     words_.clear();
     rays_.clear();
+    fetches_ = {};
   }
+
+  // Fetches recorded since clear(), per stream (index: Stream).
+  const std::array<uint64_t, 3>& fetches() const { return fetches_; }
 
   // Traverses `ray` (a RayRecord: its ray, any_hit() and pixel) through `image` and appends
   // its steps; returns its hit. `after_step` is called with the ray's state after each step.
@@ -111,6 +116,7 @@ class RayStepLog {
     }
   };
   void put(Kind k, uint64_t addr, uint32_t bytes) {
+    ++fetches_[k == Kind::kList ? 1 : k == Kind::kTriangle ? 2 : 0];
     if (bytes < kLongBytes && addr >> (64 - kAddrShift) == 0) [[likely]] {
       words_.push_back(addr << kAddrShift | uint64_t{bytes} << kBytesShift | uint64_t(k));
       return;
@@ -126,6 +132,7 @@ class RayStepLog {
   };
   std::vector<uint64_t> words_;
   std::vector<RayEnd> rays_;
+  std::array<uint64_t, 3> fetches_{};
 };
 
 }  // namespace rtusim

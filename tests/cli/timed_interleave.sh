@@ -47,6 +47,10 @@ assert results(s["s1"]) == results(s["s2"]) == results(s["s7"])
 assert s["s1"]["estimate.runs"] >= 7 and "estimate.runs" not in s["t8"], s["s1"]["estimate.runs"]
 for k in ["traversal.node_fetches", "dram.bytes.nodes", "estimate.cycles"]:
     assert abs(s["s1"][k] / s["t8"][k] - 1) < 0.01, (k, s["s1"][k], s["t8"][k])
+# Fetch counts are the traversal's, exactly, in runs too (they were the windows' sums).
+for k in ["traversal.node_fetches", "traversal.list_fetches", "traversal.triangle_fetches",
+          "fetch.nodes.fetches", "fetch.triangles.fetches"]:
+    assert s["s1"][k] == s["f"][k], (k, s["s1"][k], s["f"][k])
 PY
 # A direct-mapped L1: a line's tags are often lost while its read is outstanding, and the next
 # miss on it merges into that read: DRAM reads it once, as in the unit's L1 (node bytes =
