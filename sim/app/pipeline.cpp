@@ -17,8 +17,15 @@ namespace {
 
 CameraDesc scene_camera(const RunConfig& config, const Scene& scene) {
   if (!config.scene.camera.empty()) {
+    const CameraDesc* found = nullptr;
+    int count = 0;
     for (const auto& c : scene.cameras)
-      if (c.name == config.scene.camera) return c;
+      if (c.name == config.scene.camera && count++ == 0) found = &c;
+    if (count > 1)  // which one is meant is not known: not the first silently
+      throw InputError(config.origins.at("scene.camera") + ": scene.camera: " +
+                       std::to_string(count) + " camera nodes are named '" + config.scene.camera +
+                       "' in " + scene.source);
+    if (found) return *found;
     std::string known;
     for (const auto& c : scene.cameras) known += (known.empty() ? "" : ", ") + c.name;
     throw InputError(config.origins.at("scene.camera") + ": scene.camera: no camera node '" +

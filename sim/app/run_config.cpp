@@ -27,7 +27,9 @@ std::string scenes_dir() {
 std::string resolve_scene_path(const std::string& path, const std::string& base_dir) {
   if (path.rfind("builtin:", 0) == 0) return path;
   for (const std::string prefix : {"$RTUSIM_SCENES", "${RTUSIM_SCENES}"})
-    if (path.rfind(prefix, 0) == 0) return scenes_dir() + path.substr(prefix.size());
+    if (path.rfind(prefix, 0) == 0 &&
+        (path.size() == prefix.size() || path[prefix.size()] == '/'))  // not $RTUSIM_SCENESX
+      return scenes_dir() + path.substr(prefix.size());
   const std::filesystem::path p(path);
   if (p.is_absolute() || base_dir.empty()) return path;
   return (std::filesystem::path(base_dir) / p).lexically_normal().string();
@@ -85,6 +87,9 @@ RunConfig load_run_config(const std::string& path, const std::vector<std::string
 
   // [scene]
   c.scene.path = kScenePath.read(r);
+  if (c.scene.path.empty())
+    r.fail(KeyError("scene.path", "the scene path is empty (need a .gltf or .glb file, or "
+                                  "builtin:NAME)"));
   c.scene.resolved = resolve_scene_path(c.scene.path, r.base_dir());
   c.scene.camera = kSceneCamera.read(r);
   for (const char* key :

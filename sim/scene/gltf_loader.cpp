@@ -202,6 +202,7 @@ class GltfFlattener {
   Scene run() {
     Scene scene;
     scene.source = path_;
+    check_asset_version();
     check_required_extensions();
     collect_instances();
     copy_materials(scene);
@@ -325,6 +326,13 @@ class GltfFlattener {
         enter(c, world);
       }
     }
+  }
+
+  // glTF 2.x only (a 1.0 file is another format whose meshes would be misread).
+  void check_asset_version() const {
+    const std::string& v = model_.asset.version;
+    if (v.empty() || v.substr(0, v.find('.')) != "2")
+      fail("asset.version '" + v + "': only glTF 2.x is read");
   }
 
   // A file that requires an extension this loader does not read cannot be read right (the
@@ -692,11 +700,16 @@ SceneLimits SceneLimits::from_environment() {
 }
 
 Scene load_gltf(const std::string& path, const SceneLimits& limits) {
+  std::error_code ec;
+  if (path.empty()) throw InputError("the scene path is empty (need a .gltf or .glb file)");
+  if (std::filesystem::is_directory(path, ec))
+    throw InputError(path + ": is a directory (need a .gltf or .glb file)");
   const std::string ext = lower(std::filesystem::path(path).extension().string());
   if (ext != ".gltf" && ext != ".glb")
     throw InputError(path + ": unknown scene file extension '" + ext + "' (need .gltf or .glb)");
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path + ": file not found");
+  if (!std::filesystem::exists(path, ec)) throw InputError(path + ": file not found");
+  if (!std::filesystem::is_regular_file(path, ec))
+    throw InputError(path + ": not a regular file (need a .gltf or .glb file)");
   const uint64_t file_bytes = std::filesystem::file_size(path, ec);
   if (ec) throw InputError(path + ": cannot read the file");
   if (file_bytes > limits.max_scene_bytes)

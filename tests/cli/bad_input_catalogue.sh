@@ -132,6 +132,15 @@ scene_cfg scene.obj
 expect_bad scene_extension "scene.obj: unknown scene file extension" run "$in/scene.obj.toml"
 scene_cfg missing.gltf
 expect_bad scene_missing 'scene.path: .*missing.gltf' run "$in/missing.gltf.toml"
+mkdir -p "$in/adir.gltf"
+scene_cfg adir.gltf
+expect_bad scene_directory 'adir.gltf: is a directory' run "$in/adir.gltf.toml"
+printf '[scene]\npath = ""\n' > "$in/empty_path.toml"
+expect_bad scene_empty_path 'scene path is empty' run "$in/empty_path.toml"
+expect_bad scene_version1 "version1.gltf: asset.version '1.0': only glTF 2.x" run "$D" --set scene.path="$in/version1.gltf"
+expect_bad scene_camera_ambiguous "scene.camera: 2 camera nodes are named 'A'" run "$D" --set scene.path="$in/dup_cameras.gltf" --set scene.camera=A
+# $RTUSIM_SCENESX is a path of its own, not $RTUSIM_SCENES followed by X.
+expect_bad scene_env_prefix 'RTUSIM_SCENESX/box/box.gltf: file not found' run "$D" --set 'scene.path="$RTUSIM_SCENESX/box/box.gltf"'
 scene_cfg good.gltf '[camera]\neye = [0.2, 0.2, 1]\ntarget = [0.2, 0.2, 1]\n'
 expect_bad scene_camera_eye_target 'good.gltf.toml:[0-9]*: camera.target: target equals eye' run "$in/good.gltf.toml"
 

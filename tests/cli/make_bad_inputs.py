@@ -66,6 +66,17 @@ gltf("matrix_zero.gltf", setp(["nodes", 0, "matrix"], [0] * 16))
 nan = struct.pack("<f", float("nan"))
 gltf("nan_positions.gltf", buf=nan * 9 + IDX)
 gltf("own_ancestor.gltf", setp(["nodes", 0, "children"], [0]))
+gltf("version1.gltf", setp(["asset", "version"], "1.0"))
+
+
+def two_cameras_named_a(d):
+    camera(0.5)(d)
+    d["nodes"][1]["name"] = "A"
+    d["nodes"].append({"camera": 0, "name": "A", "translation": [0, 0, 3]})
+    d["scenes"][0]["nodes"].append(2)
+
+
+gltf("dup_cameras.gltf", two_cameras_named_a)
 gltf("child_range.gltf", setp(["nodes", 0, "children"], [5]))
 gltf("mesh_range.gltf", setp(["nodes", 0, "mesh"], 3))
 gltf("material_range.gltf", setp(["meshes", 0, "primitives", 0, "material"], 4))
