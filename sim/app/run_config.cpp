@@ -65,6 +65,7 @@ FetchCacheParams RunConfig::fetch_caches() const {
   FetchCacheParams p;
   p.node_l1 = l1.params.cache;
   if (dcache.enable) p.data_cache = dcache.params.cache;
+  p.dram_burst_bytes = dram.burst_bytes();
   return p;
 }
 

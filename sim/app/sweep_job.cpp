@@ -48,7 +48,7 @@ FetchCache::Counters point_counters(const SweepBackend& b, const CacheSweep& nod
     if (dcache)
       count(s, data->accesses(data_cfg)[s], data->misses(data_cfg)[s], dcache->line_bytes);
     else
-      count(s, b.direct_bursts(Stream(s)), b.direct_bursts(Stream(s)), FetchCache::kDramBurstBytes);
+      count(s, b.direct_bursts(Stream(s)), b.direct_bursts(Stream(s)), b.dram_burst_bytes());
   }
   for (int s = 0; s < FetchCache::kStreams; ++s) c[s].fetches = b.fetches(Stream(s));
   return c;
@@ -90,6 +90,7 @@ void run_functional(const SweepPlan& plan, const SweepJob& job, const std::strin
         const FetchCacheParams& c = plan.points[i].caches;
         points.push_back({i, node_cfgs.add(c.node_l1), c.data_cache ? data_cfgs.add(*c.data_cache) : 0});
       }
+    if (points.empty()) continue;
     // One traced frame: every cache of the layout evaluated as the fetches come.
     const MemoryImage& image = p.images[li];
     CacheSweep nodes(node_cfgs.list, image.bytes.size(),
@@ -97,7 +98,9 @@ void run_functional(const SweepPlan& plan, const SweepJob& job, const std::strin
     std::optional<CacheSweep> data;
     if (!data_cfgs.list.empty())
       data.emplace(data_cfgs.list, image.bytes.size(), CacheSweep::parts_for(data_cfgs.list, threads));
-    SweepBackend backend(image, nodes, data ? &*data : nullptr, threads);
+    // The job's points differ only in cache keys (sweep_plan's is_cache_key): one DRAM burst.
+    SweepBackend backend(image, nodes, data ? &*data : nullptr, threads,
+                         plan.points[points.front().point].caches.dram_burst_bytes);
     WhittedTracer tracer(p.scene, p.config.tracer, backend);
     const auto t0 = std::chrono::steady_clock::now();
     const FrameResult frame = tracer.render(PinholeCamera(p.camera, w, h), w, h);

@@ -13,7 +13,8 @@ SetAssocCache make_cache(const CacheParams& p, const std::string& key_prefix) {
 
 }  // namespace
 
-FetchCache::FetchCache(const FetchCacheParams& p) : node_l1_(make_cache(p.node_l1, "l1")) {
+FetchCache::FetchCache(const FetchCacheParams& p)
+    : node_l1_(make_cache(p.node_l1, "l1")), burst_bytes_(p.dram_burst_bytes) {
   if (p.data_cache) data_cache_.emplace(make_cache(*p.data_cache, "dcache"));
 }
 

@@ -6,9 +6,10 @@
 //  - fetches: fetch() calls; accesses: line accesses (a fetch touching two lines is two);
 //  - hits / misses: of those accesses;
 //  - dram_bytes: misses x line_bytes of the cache the stream goes through. A stream that goes
-//    straight to DRAM is read in whole DRAM bursts of kDramBurstBytes = 64: each fetch costs the
-//    64-byte aligned bursts its bytes touch (a 36-byte triangle is 64 or 128 bytes), and each
-//    burst counts as one access and one miss.
+//    straight to DRAM is read in whole DRAM bursts of dram_burst_bytes (dram.bus_bytes x
+//    dram.burst_length, 64 by default, as the cycle tier reads them): each fetch costs the
+//    aligned bursts its bytes touch (a 36-byte triangle is 64 or 128 bytes), and each burst
+//    counts as one access and one miss.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -26,6 +27,7 @@ class Stats;
 struct FetchCacheParams {
   CacheParams node_l1;                    // the node L1 (config keys l1.*)
   std::optional<CacheParams> data_cache;  // lists + triangles; nullopt = straight to DRAM
+  uint32_t dram_burst_bytes = 64;         // a DRAM burst: dram.bus_bytes x dram.burst_length
 };
 
 struct StreamCounters {
@@ -52,15 +54,15 @@ struct StreamCounters {
 
 class FetchCache {
  public:
-  static constexpr uint32_t kDramBurstBytes = 64;
   static constexpr int kStreams = 3;
 
   using Counters = std::array<StreamCounters, kStreams>;
 
-  // The 64-byte DRAM bursts that `bytes` (> 0) at `addr` touch.
-  static uint64_t dram_bursts(uint64_t addr, uint32_t bytes) {
-    return (addr + bytes - 1) / kDramBurstBytes - addr / kDramBurstBytes + 1;
+  // The DRAM bursts of `burst_bytes` that `bytes` (> 0) at `addr` touch.
+  static uint64_t dram_bursts(uint64_t addr, uint32_t bytes, uint32_t burst_bytes) {
+    return (addr + bytes - 1) / burst_bytes - addr / burst_bytes + 1;
   }
+  uint32_t dram_burst_bytes() const { return burst_bytes_; }
 
   // Throws InputError on bad params (keys named "l1.*" and "dcache.*").
   explicit FetchCache(const FetchCacheParams& p);
@@ -135,6 +137,7 @@ class FetchCache {
   // Takes the lines (tags and replacement state) of `other`, a cache of the same params, and
   // `counters` as its counters: a copy that went on elsewhere hands its state back.
   void take_lines(const FetchCache& other, const Counters& counters) {
+    burst_bytes_ = other.burst_bytes_;
     node_l1_ = other.node_l1_;
     data_cache_ = other.data_cache_;
     counters_ = counters;
@@ -171,16 +174,16 @@ class FetchCache {
   };
 
   // Counts `bursts` DRAM bursts read straight from DRAM (each an access and a miss).
-  static void add_dram_bursts(StreamCounters& c, uint64_t bursts) {
+  void add_dram_bursts(StreamCounters& c, uint64_t bursts) const {
     c.accesses += bursts;
     c.misses += bursts;
-    c.dram_bytes += bursts * kDramBurstBytes;
+    c.dram_bytes += bursts * burst_bytes_;
   }
   // Counts one fetch of `bytes` (> 0) at `addr` read straight from DRAM; returns its DRAM bytes.
-  static uint64_t count_to_dram(StreamCounters& c, uint64_t addr, uint32_t bytes) {
-    const uint64_t bursts = dram_bursts(addr, bytes);
+  uint64_t count_to_dram(StreamCounters& c, uint64_t addr, uint32_t bytes) const {
+    const uint64_t bursts = dram_bursts(addr, bytes, burst_bytes_);
     add_dram_bursts(c, bursts);
-    return bursts * kDramBurstBytes;
+    return bursts * burst_bytes_;
   }
 
   // Counts one fetch of `bytes` at `addr` through a concrete cache; returns its DRAM bytes.
@@ -203,6 +206,7 @@ class FetchCache {
 
   SetAssocCache node_l1_;
   std::optional<SetAssocCache> data_cache_;
+  uint32_t burst_bytes_;  // FetchCacheParams::dram_burst_bytes
   Counters counters_{};
 };
 

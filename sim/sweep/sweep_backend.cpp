@@ -17,7 +17,7 @@ struct SweepBackend::Sink {
       if (b.chunk_[0].recorded == kChunkFetches) b.hand_off();
       return;
     }
-    if (bytes != 0) b.bursts_[tag] += FetchCache::dram_bursts(addr, bytes);
+    if (bytes != 0) b.bursts_[tag] += FetchCache::dram_bursts(addr, bytes, b.burst_bytes_);
     if (b.data_) {
       b.data_->record(b.chunk_[1], addr, bytes, static_cast<uint32_t>(tag));
       if (b.chunk_[1].recorded == kChunkFetches) b.hand_off();
@@ -35,9 +35,9 @@ std::vector<CacheSweep*> sweeps(CacheSweep& nodes, CacheSweep* data) {
 }  // namespace
 
 SweepBackend::SweepBackend(const MemoryImage& image, CacheSweep& nodes, CacheSweep* data,
-                           unsigned threads)
+                           unsigned threads, uint32_t dram_burst_bytes)
     : image_(image), nodes_(nodes), data_(data), pipeline_(sweeps(nodes, data), threads, kChunksHeld),
-      chunk_(data ? 2 : 1) {
+      chunk_(data ? 2 : 1), burst_bytes_(dram_burst_bytes) {
   reserve();
 }
 

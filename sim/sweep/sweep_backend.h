@@ -18,15 +18,18 @@ namespace rtusim {
 class SweepBackend final : public TraceBackend {
  public:
   // `data` may be null (no data-cache configuration to evaluate); `threads` feed the caches.
-  SweepBackend(const MemoryImage& image, CacheSweep& nodes, CacheSweep* data, unsigned threads);
+  // `dram_burst_bytes`: the bursts lists and triangles cost straight from DRAM.
+  SweepBackend(const MemoryImage& image, CacheSweep& nodes, CacheSweep* data, unsigned threads,
+               uint32_t dram_burst_bytes);
   ~SweepBackend() override;
   void trace(std::span<const RayRecord> rays, std::span<Hit> hits) override;
   // Feeds what is left in the chunks and waits for the caches; call once after the frame.
   void flush();
 
   uint64_t fetches(Stream s) const { return fetches_[static_cast<int>(s)]; }
-  // 64-byte DRAM bursts a stream costs when it goes straight to DRAM (FetchCache's rule).
+  // DRAM bursts a stream costs when it goes straight to DRAM (FetchCache's rule).
   uint64_t direct_bursts(Stream s) const { return bursts_[static_cast<int>(s)]; }
+  uint32_t dram_burst_bytes() const { return burst_bytes_; }
 
  private:
   static constexpr size_t kChunkFetches = 1 << 16;
@@ -41,6 +44,7 @@ class SweepBackend final : public TraceBackend {
   CacheSweep* data_;
   SweepPipeline pipeline_;
   SweepPipeline::Lists chunk_;  // being filled by the traversal: nodes, then lists and triangles
+  uint32_t burst_bytes_;
   std::array<uint64_t, 3> fetches_{}, bursts_{};
 };
 

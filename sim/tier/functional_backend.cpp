@@ -93,6 +93,7 @@ ReplayNeeds FunctionalBackend::replay_needs() const {
   if (caches_.node_l1().retouch_neutral())
     needs.node_line_bytes = caches_.node_l1().params().line_bytes;
   needs.lists_triangles_direct = caches_.data_cache() == nullptr;
+  needs.dram_burst_bytes = caches_.dram_burst_bytes();
   return needs;
 }
 

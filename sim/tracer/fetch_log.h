@@ -30,6 +30,7 @@ class FetchLog {
   void set_needs(const ReplayNeeds& needs) {
     node_line_shift_ = needs.node_line_bytes ? std::countr_zero(needs.node_line_bytes) : -1;
     direct_ = needs.lists_triangles_direct;
+    burst_bytes_ = needs.dram_burst_bytes;
   }
 
   // The traversal sink call: records one fetch of the current ray.
@@ -38,11 +39,11 @@ class FetchLog {
       if (s == Stream::kNode) {
         if (node_line_shift_ >= 0 && counted_node_hit(addr, bytes)) return;
       } else if (direct_) {
-        const uint64_t bursts = FetchCache::dram_bursts(addr, bytes);
+        const uint64_t bursts = FetchCache::dram_bursts(addr, bytes, burst_bytes_);
         DirectCount& d = direct_counts_[static_cast<int>(s)];
         ++d.fetches;
         d.bursts += bursts;
-        ray_direct_bytes_ += bursts * FetchCache::kDramBurstBytes;
+        ray_direct_bytes_ += bursts * burst_bytes_;
         return;
       }
     }
@@ -75,7 +76,7 @@ class FetchLog {
   size_t size_bytes() const { return used_ * sizeof(uint64_t) + rays_.size() * sizeof(RayEnd); }
 
   // Counted, not logged: node fetches that were repeated hits (each one line access), and per
-  // stream the fetches straight to DRAM and their 64-byte bursts.
+  // stream the fetches straight to DRAM and their DRAM bursts.
   struct DirectCount {
     uint64_t fetches = 0;
     uint64_t bursts = 0;
@@ -141,6 +142,7 @@ class FetchLog {
   std::vector<RayEnd> rays_;
   int node_line_shift_ = -1;  // -1: every node fetch logged
   bool direct_ = false;
+  uint32_t burst_bytes_ = 64;  // ReplayNeeds::dram_burst_bytes
   uint64_t last_node_line_ = kNoLine;
   uint64_t counted_node_hits_ = 0;
   std::array<DirectCount, FetchCache::kStreams> direct_counts_{};

@@ -32,8 +32,10 @@ struct ReplayNeeds {
   // retouch_neutral()): a node fetch within the line the previous node fetch ended in is then
   // such a hit, counted, not logged. 0: every node fetch is logged.
   uint32_t node_line_bytes = 0;
-  // List and triangle fetches go straight to DRAM: their bursts are counted, not logged.
+  // List and triangle fetches go straight to DRAM: their bursts (of dram_burst_bytes) are
+  // counted, not logged.
   bool lists_triangles_direct = false;
+  uint32_t dram_burst_bytes = 64;
 };
 
 // Something that traces ray batches: hits[i] is the hit of rays[i].

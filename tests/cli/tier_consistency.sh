@@ -29,6 +29,22 @@ for kind in ["dfl", "odfl"]:
     assert c32[p + "sim.cycles"] * 2 < c1[p + "sim.cycles"], (c1[p + "sim.cycles"], c32[p + "sim.cycles"])
 assert "sim.cycles" not in f and c1["sim.cycles"] > 0
 PY
+# A DRAM burst other than 64 bytes (4-byte bus x 4): lists and triangles straight from DRAM cost
+# that burst in every tier (the functional tier read 64-byte bursts whatever the config said:
+# +37% total bytes at 4-byte buses); a sweep point over dram.* equals its single run.
+b=(--set image.width=24 --set image.height=24 --set dram.bus_bytes=4 --set dram.burst_length=4)
+"$rtusim" run "$src/configs/default.toml" "${b[@]}" --out "$tmp/bf" > /dev/null
+"$rtusim" run "$src/configs/default.toml" "${b[@]}" --set sim.tier=cycle --set sim.rays_in_flight=1 --out "$tmp/bc" > /dev/null
+printf '[image]\nwidth = 24\nheight = 24\n[dram]\nburst_length = 4\n[sweep]\n"dram.bus_bytes" = [4, 8]\n' > "$tmp/b.toml"
+"$rtusim" sweep "$tmp/b.toml" --out "$tmp/bs" --no-plots > /dev/null 2>&1
+python3 - "$tmp/bf/stats.json" "$tmp/bc/stats.json" "$tmp/bs/results.csv" <<'PY'
+import csv, json, sys
+f, c = (json.load(open(p)) for p in sys.argv[1:3])
+for k in ["dram.bytes.nodes", "dram.bytes.lists", "dram.bytes.triangles", "dram.bytes.total"]:
+    assert f[k] == c[k], (k, f[k], c[k])
+row = next(r for r in csv.DictReader(open(sys.argv[3])) if r["dram.bus_bytes"] == "4")
+assert float(row["dram.bytes.triangles"]) == f["dram.bytes.triangles"], (row["dram.bytes.triangles"], f["dram.bytes.triangles"])
+PY
 # sim.vcd: the unit's state over its own cycle times, one file per layout.
 "$rtusim" run "$src/configs/default.toml" "${common[@]}" --set sim.tier=cycle --set sim.vcd="$tmp/unit.vcd" --out "$tmp/v" > /dev/null
 python3 - "$tmp/unit_dfl.vcd" "$tmp/unit_odfl.vcd" "$tmp/c32/stats.json" <<'PY'
