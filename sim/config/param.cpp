@@ -60,12 +60,6 @@ const char* param_type_name(ParamType t) {
 
 const std::vector<const ParamDecl*>& declared_params() { return registry(); }
 
-const ParamDecl* find_param(const std::string& key) {
-  for (const ParamDecl* p : registry())
-    if (p->key() == key) return p;
-  return nullptr;
-}
-
 ParamDecl::ParamDecl(ParamInfo info) : info_(std::move(info)) { registry().push_back(this); }
 
 template <class T>

@@ -33,8 +33,6 @@ struct ParamInfo {
 
 // Every declared key, in declaration order within a translation unit.
 const std::vector<const class ParamDecl*>& declared_params();
-// The declaration of `key`, or nullptr.
-const ParamDecl* find_param(const std::string& key);
 
 class ParamDecl {
  public:

@@ -31,7 +31,6 @@ inline SplitEvent make_event(int axis, float pos, EventType type, uint32_t tri) 
 // First possible event of `axis`: the lower bound of that axis' run in a sorted list.
 inline SplitEvent axis_begin_key(int axis) { return uint64_t(axis) << 62; }
 
-inline int event_axis(SplitEvent e) { return int(e >> 62); }
 inline uint32_t event_position_key(SplitEvent e) { return uint32_t(e >> 30); }
 inline float event_position(SplitEvent e) { return key_position(event_position_key(e)); }
 inline EventType event_type(SplitEvent e) { return EventType((e >> 28) & 3u); }

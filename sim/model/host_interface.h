@@ -37,7 +37,6 @@ class HostInterface : public sc_core::sc_module {
     ++completed_;
   }
   bool batch_done() const { return completed_ == rays_.size(); }
-  size_t batch_size() const { return rays_.size(); }
 
  private:
   std::span<const RayRecord> rays_;

@@ -1,7 +1,7 @@
-// Traversal of a batch of rays, 16 (AVX-512) or 8 (AVX2) at a time in a RayPacket where the
-// host has one (else, and for rays a packet does not take, one by one with traverse()). The
-// caller sees exactly what traverse() ray by ray would give: every hit bit for bit, and every
-// ray's fetches, ray after ray in batch order.
+// Traversal of a batch of rays, 8 at a time in a RayPacket where the host has AVX2 (AVX-512
+// hosts too: 16 lanes were slower, docs/speed_notes.md), else, and for rays a packet does not
+// take, one by one with traverse(). The caller sees exactly what traverse() ray by ray would
+// give: every hit bit for bit, and every ray's fetches, ray after ray in batch order.
 #pragma once
 #include <algorithm>
 #include <cstddef>

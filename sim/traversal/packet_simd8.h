@@ -1,6 +1,7 @@
-// The vector operations of an 8-lane RayPacket (AVX2, for hosts without AVX-512): one float per
+// The vector operations of an 8-lane RayPacket (AVX2; AVX-512 hosts use it too): one float per
 // lane in a __m256, lane masks as __m256 compare results (all ones in a lane that is in). The
-// same IEEE operations and predicates as the 16-lane ones, so each lane computes the same values.
+// same IEEE operations and predicates as traverse()'s scalar code, so each lane computes the
+// same values.
 #pragma once
 #if defined(__AVX2__)
 #include <immintrin.h>
