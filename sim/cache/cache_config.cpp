@@ -25,7 +25,7 @@ struct CacheKeys {
       : prefix(p),
         size(p + ".size", static_cast<int64_t>(d.size_bytes), 4,
              static_cast<int64_t>(kMaxCacheBytes), "bytes", what + " capacity"),
-        assoc(p + ".assoc", d.assoc, 1, 1 << 24, "full", "ways",
+        assoc(p + ".assoc", d.assoc, 1, kMaxCacheWays, "full", "ways",
               what + " ways per set (\"full\": one set, size / line ways)"),
         line(p + ".line", d.line_bytes, 4, 1 << 20, "bytes", what + " line size, a power of two"),
         policy(p + ".policy", d.policy, ReplacementPolicies::names(), "",

@@ -20,6 +20,9 @@ void validate(const CacheParams& p, const std::string& key_prefix) {
   if (p.size_bytes > kMaxCacheBytes)
     fail(size_key, std::to_string(p.size_bytes) + " exceeds the limit of " +
                        std::to_string(kMaxCacheBytes) + " bytes");
+  if (p.assoc > kMaxCacheWays)  // "full" over a large cache of small lines
+    fail(assoc_key, std::to_string(p.assoc) + " ways (" + size_key + " / " + line_key +
+                        ") exceed the limit of " + std::to_string(kMaxCacheWays));
   const uint64_t set_bytes = uint64_t{p.line_bytes} * p.assoc;
   const std::string set_bytes_text =
       line_key + " x " + assoc_key + " (" + std::to_string(set_bytes) + ")";

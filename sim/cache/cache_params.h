@@ -18,6 +18,8 @@ struct CacheParams {
 
 // The largest cache accepted (the tag array is 8 bytes per line).
 inline constexpr uint64_t kMaxCacheBytes = uint64_t{1} << 30;
+// The most ways a set may have (a set's tags are searched one by one), "full" included.
+inline constexpr uint32_t kMaxCacheWays = uint32_t{1} << 24;
 
 // Throws KeyError (an InputError) with a one-line message naming the offending key, `key_prefix` + ".size",
 // ".assoc", ".line", ".policy" (e.g. "l1.size: 8000 is not a multiple of l1.line x l1.assoc (256)").

@@ -94,6 +94,7 @@ void CycleBackend::trace(std::span<const RayRecord> rays, std::span<Hit> hits) {
   make_current();
   top_->host.post(rays, hits);
   sc_core::sc_start();
+  if (const std::exception_ptr e = top_->unit.take_error()) std::rethrow_exception(e);
   if (!top_->host.batch_done())
     throw std::logic_error("cycle backend: the simulation stopped before the batch was done");
   rays_ += rays.size();
@@ -109,7 +110,8 @@ const TraversalUnit& CycleBackend::unit() const { return top_->unit; }
 
 void CycleBackend::write_stats(Stats& stats) const {
   const uint64_t c = cycles();
-  const double seconds = double(c) / (params_.clock_mhz * 1e6);
+  // The clock's period is whole picoseconds (sim.clock_mhz rounded): its seconds, not the MHz's.
+  const double seconds = double(c) / (1e12 / double(params_.unit.clock_period_ps));
   stats.set("sim.cycles", c);
   stats.set("sim.rays_per_second", seconds > 0 ? double(rays_) / seconds : 0.0);
   const DramBackend& d = top_->dram.backend();

@@ -66,7 +66,16 @@ void TraversalUnit::run() {
       wait(host_.posted());
       continue;
     }
-    with_layout_decoder(image_, [&]<class Decoder>() { run_batch<Decoder>(); });
+    try {
+      with_layout_decoder(image_, [&]<class Decoder>() { run_batch<Decoder>(); });
+    } catch (...) {  // to the host, as thrown: the kernel would wrap it as its own error
+      error_ = std::current_exception();
+      // Stopped quietly: the error is the host's to report, in one line.
+      sc_core::sc_report_handler::set_actions("/OSCI/SystemC", sc_core::SC_INFO,
+                                              sc_core::SC_DO_NOTHING);
+      sc_core::sc_stop();
+      return;
+    }
   }
 }
 

@@ -32,7 +32,9 @@
 #include <algorithm>
 #include <cstdint>
 #include <deque>
+#include <exception>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <systemc>
@@ -90,6 +92,9 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
 
   uint64_t steps() const { return steps_; }
   void write_stats(Stats& stats) const;  // unit.*
+  // An error the unit's thread stopped the simulation with (the kernel would report it as an
+  // internal error): rethrown by the host after sc_start(). Null when there is none.
+  std::exception_ptr take_error() { return std::exchange(error_, nullptr); }
 
   // Dumps the unit's state (rays active, steps, leaf steps, intersection tests) to `vcd` at the
   // unit's own cycle times; nullptr: none.
@@ -124,6 +129,7 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
   };
 
   void run();
+  std::exception_ptr error_;
   template <class Decoder>
   void run_batch();
   // Times inside the unit are cycles of its clock; picoseconds only at the sockets.

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "model/event_wheel.h"
+#include "util/error.h"
 
 namespace rtusim {
 
@@ -164,6 +165,12 @@ class UnitQueue {
   // An entry kWheelCycles or more ahead of the last of its kind taken (rare; out of line, so
   // the inline pushes need no heap code).
   [[gnu::noinline, gnu::cold]] void push_far(FarHeap& far, uint64_t cycle, uint32_t slot) {
+    // A far entry keeps its cycle in the key's top 44 bits: past that, a clear error, not a
+    // corrupted cycle (it crashed the run).
+    if (cycle >> (64 - kSlotBits))
+      throw InputError("the simulated time reached 2^44 cycles (" + std::to_string(cycle) +
+                       "), the traversal unit's limit: simulate a smaller frame or shorter "
+                       "latencies (isect.*, unit.*, dram.*)");
     far.push(cycle << kSlotBits | slot);
     far_next_ = std::min(far_next_, cycle);
   }

@@ -87,7 +87,8 @@ const FloatParam kTrp("dram.tRP_ns", kDefaults.tRP_ns, 0.0, 1e6, "ns",
 const FloatParam kTcl("dram.tCL_ns", kDefaults.tCL_ns, 0.0, 1e6, "ns",
                       "column read to first data (preset: 14.16 or 13.75)");
 const FloatParam kLatency("dram.latency_ns", kDefaults.latency_ns, 0.0, 1e6, "ns",
-                          "backend fixed: request to first data (preset: tRCD + tCL)");
+                          "backend fixed: request to first data (default: a row miss, "
+                          "dram.tRCD_ns + dram.tCL_ns)");
 
 }  // namespace
 
@@ -108,7 +109,8 @@ DramParams read_dram_params(ConfigReader& r) {
   p.tRCD_ns = kTrcd.read(r, d.tRCD_ns);
   p.tRP_ns = kTrp.read(r, d.tRP_ns);
   p.tCL_ns = kTcl.read(r, d.tCL_ns);
-  p.latency_ns = kLatency.read(r, d.latency_ns);
+  // A row miss of the timings in effect (the preset's, or the config's own tRCD/tCL).
+  p.latency_ns = kLatency.read(r, p.tRCD_ns + p.tCL_ns);
   try {
     validate(p, "dram");
   } catch (const KeyError& e) {
