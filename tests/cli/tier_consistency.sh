@@ -45,6 +45,11 @@ for k in ["dram.bytes.nodes", "dram.bytes.lists", "dram.bytes.triangles", "dram.
 row = next(r for r in csv.DictReader(open(sys.argv[3])) if r["dram.bus_bytes"] == "4")
 assert float(row["dram.bytes.triangles"]) == f["dram.bytes.triangles"], (row["dram.bytes.triangles"], f["dram.bytes.triangles"])
 PY
+# backend fixed: its latency defaults to a row miss of the timings in effect (it kept the
+# preset's 28.32 ns when tRCD and tCL were set).
+"$rtusim" run "$src/configs/default.toml" --set image.width=8 --set image.height=8 --set dram.backend=fixed \
+  --set dram.tRCD_ns=50 --set dram.tCL_ns=50 --out "$tmp/fx" > /dev/null
+grep -qx 'latency_ns = 100.0' "$tmp/fx/config.toml" || { echo "FAIL: fixed latency not tRCD + tCL"; exit 1; }
 # sim.vcd: the unit's state over its own cycle times, one file per layout.
 "$rtusim" run "$src/configs/default.toml" "${common[@]}" --set sim.tier=cycle --set sim.vcd="$tmp/unit.vcd" --out "$tmp/v" > /dev/null
 python3 - "$tmp/unit_dfl.vcd" "$tmp/unit_odfl.vcd" "$tmp/c32/stats.json" <<'PY'
