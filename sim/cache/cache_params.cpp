@@ -37,9 +37,9 @@ void validate(const CacheParams& p, const std::string& key_prefix) {
   if (!is_known_replacement_policy(p.policy))
     fail(policy_key, "unknown policy \"" + p.policy + "\" (known: " +
                          known_replacement_policies_text() + ")");
-  if (p.policy == "tree-plru" && !std::has_single_bit(p.assoc))
-    fail(assoc_key, std::to_string(p.assoc) + " must be a power of two for " + policy_key +
-                        " = \"tree-plru\"");
+  if (const std::string why = replacement_policy_ways_problem(p.policy, p.assoc); !why.empty())
+    fail(assoc_key, std::to_string(p.assoc) + " " + why + " for " + policy_key + " = \"" +
+                        p.policy + "\"");
 }
 
 }  // namespace rtusim

@@ -16,6 +16,15 @@ bool is_known_replacement_policy(std::string_view name) {
 
 std::string known_replacement_policies_text() { return ReplacementPolicies::names_text(); }
 
+std::string replacement_policy_ways_problem(std::string_view name, uint32_t ways) {
+  return ReplacementPolicies::dispatch(name, [&]<class P>() -> std::string {
+    if constexpr (requires { P::ways_problem(ways); })
+      return P::ways_problem(ways);
+    else
+      return {};
+  });
+}
+
 std::unique_ptr<ReplacementPolicy> make_replacement_policy(std::string_view name, uint32_t sets,
                                                            uint32_t ways, uint64_t seed) {
   if (!ReplacementPolicies::contains(name))

@@ -36,6 +36,10 @@ const std::vector<std::string>& known_replacement_policies();
 bool is_known_replacement_policy(std::string_view name);
 std::string known_replacement_policies_text();  // "lru, tree-plru, fifo, random"
 
+// What rules out `ways` ways for the known policy `name` ("": nothing): a policy may declare a
+// static ways_problem(ways), e.g. tree-plru's power of two.
+std::string replacement_policy_ways_problem(std::string_view name, uint32_t ways);
+
 // The policy called `name` for `sets` x `ways`; `seed` feeds the random policy. An unknown name
 // throws InputError listing the known ones; tree-plru with a non-power-of-two `ways` throws too.
 std::unique_ptr<ReplacementPolicy> make_replacement_policy(std::string_view name, uint32_t sets,

@@ -9,7 +9,7 @@ MemoryImage ClusterLayout::build_image(const KdTree& tree, const Scene& scene) c
   const std::vector<double> priority = node_area_probabilities(tree);
   uint64_t slots = 0;
   const std::vector<uint32_t> slot_of = BlockCluster::pack(tree, priority, slots);
-  return BlockCluster::write(tree, scene, "cluster", slot_of, slots);
+  return BlockCluster::write(tree, scene, kName, slot_of, slots);
 }
 
 }  // namespace rtusim

@@ -7,7 +7,7 @@ namespace rtusim {
 
 MemoryImage DflLayout::build_image(const KdTree& tree, const Scene& scene) const {
   return write_depth_first(
-      tree, scene, "dfl", uint64_t{1} << 30, [](const KdNode&, const Bounds3f&) { return false; },
+      tree, scene, kName, uint64_t{1} << 30, [](const KdNode&, const Bounds3f&) { return false; },
       [](const KdNode& n, bool, uint32_t above_slot) { return (above_slot << 2) | n.axis; });
 }
 

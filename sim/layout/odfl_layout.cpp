@@ -7,7 +7,7 @@ namespace rtusim {
 
 MemoryImage OdflLayout::build_image(const KdTree& tree, const Scene& scene) const {
   return write_depth_first(
-      tree, scene, "odfl", uint64_t{1} << 29, above_adjacent,
+      tree, scene, kName, uint64_t{1} << 29, above_adjacent,
       [](const KdNode& n, bool flip, uint32_t other_slot) {
         return (other_slot << 3) | (flip ? kReorderBit : 0u) | n.axis;
       });

@@ -42,7 +42,7 @@ MemoryImage ProfileLayout::build_image(const KdTree& tree, const Scene& scene) c
     priority[i] += double(visits_[i]);
   uint64_t slots = 0;
   const std::vector<uint32_t> slot_of = BlockCluster::pack(tree, priority, slots);
-  return BlockCluster::write(tree, scene, "profile", slot_of, slots);
+  return BlockCluster::write(tree, scene, kName, slot_of, slots);
 }
 
 }  // namespace rtusim

@@ -6,10 +6,15 @@
 #include <deque>
 #include <string>
 
+#include "layout/subtree_bfs_layout.h"
 #include "layout/tree_measures.h"
 #include "util/error.h"
 
 namespace rtusim {
+
+std::string_view SubtreeLayout::name() const {
+  return shared_blocks_ ? kName : SubtreeBfsLayout::kName;
+}
 
 MemoryImage SubtreeLayout::build_image(const KdTree& tree, const Scene& scene) const {
   MemoryImage image;

@@ -57,7 +57,7 @@ class SubtreeLayout : public Layout {
   static constexpr const char* kName = "subtree";
   // `shared_blocks`: fill every block (subtree); false: one subtree per block (subtree-bfs).
   explicit SubtreeLayout(bool shared_blocks = true) : shared_blocks_(shared_blocks) {}
-  std::string_view name() const override { return shared_blocks_ ? "subtree" : "subtree-bfs"; }
+  std::string_view name() const override;  // kName, or SubtreeBfsLayout::kName
   MemoryImage build_image(const KdTree& tree, const Scene& scene) const override;
 
   // Byte offset in the node region of the node with reference `ref`.

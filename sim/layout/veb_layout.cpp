@@ -67,7 +67,7 @@ class VebOrder {
 MemoryImage VebLayout::build_image(const KdTree& tree, const Scene& scene) const {
   uint64_t units = 0;
   const std::vector<uint32_t> unit_of = VebOrder(tree).run(units);
-  return write_pair_image(tree, scene, "veb", unit_of, units);
+  return write_pair_image(tree, scene, kName, unit_of, units);
 }
 
 }  // namespace rtusim

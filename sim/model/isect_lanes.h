@@ -14,8 +14,8 @@ namespace rtusim {
 class IsectLanes {
  public:
   explicit IsectLanes(const UnitParams& p)
-      : free_(p.isect_lanes, 0), interval_(p.isect_interval_cycles),
-        latency_(p.isect_latency_cycles) {}
+      : free_(p.isect_lanes, 0), interval_cycles_(p.isect_interval_cycles),
+        latency_cycles_(p.isect_latency_cycles) {}
 
   // Books `tests` tests whose data is there at cycle t; returns the cycle the last result is in
   // (t when there are none).
@@ -24,16 +24,16 @@ class IsectLanes {
     for (size_t i = 0; i < tests; ++i) {
       auto lane = std::min_element(free_.begin(), free_.end());
       const uint64_t start = std::max(t, *lane);
-      *lane = start + interval_;
-      end = std::max(end, start + latency_);
+      *lane = start + interval_cycles_;
+      end = std::max(end, start + latency_cycles_);
     }
     return end;
   }
 
  private:
   std::vector<uint64_t> free_;  // per lane: the next cycle it takes a test
-  uint32_t interval_;
-  uint32_t latency_;
+  uint32_t interval_cycles_;
+  uint32_t latency_cycles_;
 };
 
 }  // namespace rtusim

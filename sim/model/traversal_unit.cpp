@@ -25,7 +25,7 @@ TraversalUnit::TraversalUnit(const sc_core::sc_module_name& name, const UnitPara
       node_socket("node_socket"),
       data_socket("data_socket"),
       p_(checked(p)),
-      period_(p.clock_period_ps),
+      period_ps_(p.clock_period_ps),
       cycles_(p.clock_period_ps),
       node_line_(p.node_line_bytes),
       data_line_(p.data_line_bytes),
@@ -54,7 +54,7 @@ TraversalUnit::TraversalUnit(const sc_core::sc_module_name& name, const UnitPara
 void TraversalUnit::set_direct_targets(L1Cache* node, DirectTarget* data) {
   node_direct_ = node;
   // On the unit's clock (reads in cycles) with the unit's node lines (every read valid).
-  node_fast_ = node && node->clock_period_ps() == period_ &&
+  node_fast_ = node && node->clock_period_ps() == period_ps_ &&
                node->params().cache.line_bytes == node_line_.divisor();
   data_direct_ = data;
 }
@@ -141,7 +141,7 @@ void TraversalUnit::run_batch() {
   // The kernel catches up with the unit: the batch ends at its last event.
   if (by_call)
     for (const MemoryHorizon* m : horizons_) m->call_driven()->set_driven_by_call(false);
-  const uint64_t end_ps = std::max(last_cycle_, end_cycle_) * period_, now = now_ps();
+  const uint64_t end_ps = std::max(last_cycle_, end_cycle_) * period_ps_, now = now_ps();
   if (end_ps > now) wait(ps(end_ps - now));
 }
 
@@ -155,7 +155,7 @@ void TraversalUnit::set_vcd(VcdWriter* vcd) {
 }
 
 void TraversalUnit::sample_vcd(uint64_t cycle) {
-  const uint64_t at_ps = cycle * period_;
+  const uint64_t at_ps = cycle * period_ps_;
   vcd_->sample(at_ps, vcd_active_, active_);
   vcd_->sample(at_ps, vcd_steps_, steps_);
   vcd_->sample(at_ps, vcd_leaf_steps_, leaf_steps_);
@@ -375,7 +375,7 @@ void TraversalUnit::issue(uint32_t slot, size_t first, size_t last, uint64_t t) 
   s.pending = 0;
   s.ready = t;
   s.issuing = true;
-  const uint64_t at_ps = t * period_;
+  const uint64_t at_ps = t * period_ps_;
   for (size_t i = first; i < last; ++i) {
     const Fetch& f = s.fetches[i];
     if (f.bytes == 0) continue;

@@ -185,7 +185,7 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
   void sample_vcd(uint64_t cycle);  // samples the VCD variables, if any
 
   UnitParams p_;
-  uint64_t period_;
+  uint64_t period_ps_;
   FastDivider cycles_;                   // picoseconds to cycles
   FastDivider node_line_, data_line_;    // addresses to node and data lines
   const MemoryImage& image_;

@@ -80,12 +80,12 @@ bool TimedEngine::decide_lookup(L1Timing& l1, Lookup& q, uint64_t& answer) {
   size_t m = mshrs;
   uint64_t c = 0;  // set on both paths below (initialised for -Og's -Wmaybe-uninitialized)
   if (q.blocked_at == kUnknown) {
-    c = std::max(q.t, l1.port_free);
+    c = std::max(q.t, l1.port_free_cycle);
     // An unknown fill comes after the DRAM's next decision, so after c when c is at or before
     // it: its MSHR is busy at c.
     const bool known_busy = c <= decision_cycle_;
     // A busy MSHR that holds the line: a merge answered at its fill.
-    if (c < l1.busy_until && (l1.line_filter >> (q.line & 63) & 1)) {
+    if (c < l1.busy_until_cycle && (l1.line_filter >> (q.line & 63) & 1)) {
       size_t match = mshrs;
       for (size_t i = 0; i < mshrs; ++i) {
         if (l1.mshr_line[i] != q.line || c >= l1.mshr_fill[i]) continue;
@@ -96,7 +96,7 @@ bool TimedEngine::decide_lookup(L1Timing& l1, Lookup& q, uint64_t& answer) {
         match = i;
       }
       if (match != mshrs) {
-        l1.port_free = c + 1;
+        l1.port_free_cycle = c + 1;
         ++l1.merged;
         if (!q.in_tags) {  // the cache counted a miss and its DRAM bytes: DRAM reads it once
           const uint64_t bytes = l1.line_size.divisor();
@@ -113,7 +113,7 @@ bool TimedEngine::decide_lookup(L1Timing& l1, Lookup& q, uint64_t& answer) {
       }
     }
     if (q.in_tags) {
-      l1.port_free = c + 1;
+      l1.port_free_cycle = c + 1;
       answer = c + l1.hit_cycles;
       return true;
     }
@@ -140,14 +140,14 @@ bool TimedEngine::decide_lookup(L1Timing& l1, Lookup& q, uint64_t& answer) {
     }
     l1.stall_cycles += c - q.blocked_at;
   }
-  l1.port_free = c + 1;
+  l1.port_free_cycle = c + 1;
   ++l1.primary;
   l1.mshr_line[m] = q.line;
   l1.line_filter = 0;
   for (const uint64_t l : l1.mshr_line) l1.line_filter |= uint64_t{1} << (l & 63);
   l1.mshr_fill[m] = kUnknown;
   ++l1.undecided;
-  l1.busy_until = kUnknown;
+  l1.busy_until_cycle = kUnknown;
   l1.mshr_waiters[m].assign(1, q.slot);
   const uint64_t line_bytes = l1.line_size.divisor();
   dram_enqueue(l1.read_id | m, q.line * line_bytes, static_cast<uint32_t>(line_bytes), q.stream,
@@ -159,8 +159,8 @@ bool TimedEngine::decide_lookup(L1Timing& l1, Lookup& q, uint64_t& answer) {
 template <class Events>
 void TimedEngine::answer(Events& events, uint32_t slot, uint64_t cycle) {
   Slot& s = slots_[slot];
-  s.ready = std::max(s.ready, cycle);
-  if (--s.waits == 0) events.set(slot, s.ready + s.then_cycles);
+  s.ready_cycle = std::max(s.ready_cycle, cycle);
+  if (--s.waits == 0) events.set(slot, s.ready_cycle + s.then_cycles);
 }
 
 template <class Events>
@@ -170,7 +170,7 @@ void TimedEngine::await(Events& events, uint32_t slot, uint64_t ready, uint32_t 
     events.set(slot, ready + then_cycles);
     return;
   }
-  s.ready = ready;
+  s.ready_cycle = ready;
   s.then_cycles = then_cycles;
   events.clear(slot);  // no event until its last wait is answered
 }
@@ -191,7 +191,7 @@ void TimedEngine::dram_decide(Events& events) {
     l1.mshr_fill[m] = fill;
     l1.held_until = 0;
     if (--l1.undecided == 0)
-      l1.busy_until = *std::max_element(l1.mshr_fill.begin(), l1.mshr_fill.end());
+      l1.busy_until_cycle = *std::max_element(l1.mshr_fill.begin(), l1.mshr_fill.end());
     for (const uint32_t slot : l1.mshr_waiters[m]) answer(events, slot, fill);
     l1.mshr_waiters[m].clear();
   }

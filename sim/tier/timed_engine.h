@@ -104,7 +104,7 @@ class TimedEngine {
     // answer known, and the cycles its next event comes after the last answer.
     uint32_t waits = 0;
     uint32_t then_cycles = 0;
-    uint64_t ready = 0;
+    uint64_t ready_cycle = 0;
   };
   // A fill's cycle not known yet (its read is not decided): later than every cycle.
   static constexpr uint64_t kUnknown = ~uint64_t{0};
@@ -136,8 +136,8 @@ class TimedEngine {
     // The first held lookup stays held until the DRAM's next decision reaches this cycle or a
     // fill of this L1 becomes known (then 0).
     uint64_t held_until = 0;
-    uint64_t port_free = 0;
-    uint64_t busy_until = 0;  // the latest fill: no MSHR is busy from here on (kUnknown: unknown)
+    uint64_t port_free_cycle = 0;
+    uint64_t busy_until_cycle = 0;  // the latest fill: no MSHR is busy from here on (kUnknown: unknown)
     uint64_t line_filter = ~uint64_t{0};  // bit (line mod 64) of every MSHR's line, or more
     uint64_t primary = 0, merged = 0, stall_cycles = 0;
   };
@@ -168,9 +168,9 @@ class TimedEngine {
                                           bool in_tags, Stream s, uint64_t t) {
     if (l1.held.empty()) [[likely]] {
       // A hit no MSHR can hold (no MSHR's line has its bit): no fill, known or not, changes it.
-      const uint64_t c = std::max(t, l1.port_free);
-      if (in_tags && (c >= l1.busy_until || !(l1.line_filter >> (line & 63) & 1))) [[likely]] {
-        l1.port_free = c + 1;
+      const uint64_t c = std::max(t, l1.port_free_cycle);
+      if (in_tags && (c >= l1.busy_until_cycle || !(l1.line_filter >> (line & 63) & 1))) [[likely]] {
+        l1.port_free_cycle = c + 1;
         return c + l1.hit_cycles;
       }
     }

@@ -20,6 +20,7 @@
 #pragma once
 #include <bit>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "cache/replacement_policy.h"
@@ -30,12 +31,15 @@ namespace rtusim {
 class TreePlruPolicy final : public ReplacementPolicy {
  public:
   static constexpr const char* kName = "tree-plru";
+  // What rules out `ways` ways ("": nothing): the tree needs a power of two.
+  static std::string ways_problem(uint32_t ways) {
+    return std::has_single_bit(ways) ? "" : "must be a power of two";
+  }
   TreePlruPolicy(uint32_t sets, uint32_t ways, uint64_t /*seed*/)
       : ways_(ways), levels_(static_cast<uint32_t>(std::countr_zero(ways))),
         bits_(uint64_t{sets} * ways, 0) {
-    if (!std::has_single_bit(ways))
-      throw InputError("tree_plru: the associativity (" + std::to_string(ways) +
-                       ") must be a power of two");
+    if (const std::string why = ways_problem(ways); !why.empty())
+      throw InputError("tree_plru: the associativity (" + std::to_string(ways) + ") " + why);
   }
 
   const char* name() const override { return kName; }

@@ -8,7 +8,7 @@
 namespace rtusim {
 
 FrFcfsDram::FrFcfsDram(const DramParams& p)
-    : p_(p), tRCD_(p.tRCD_ps()), tRP_(p.tRP_ps()), tCL_(p.tCL_ps()), tBurst_(p.burst_ps()) {
+    : p_(p), tRCD_ps_(p.tRCD_ps()), tRP_ps_(p.tRP_ps()), tCL_ps_(p.tCL_ps()), tBurst_ps_(p.burst_ps()) {
   validate(p, "dram");
   row_ = FastDivider(p.row_bytes);
   channel_ = FastDivider(p.channels);

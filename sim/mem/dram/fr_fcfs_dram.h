@@ -88,7 +88,7 @@ class FrFcfsDram final : public DramBackend {
   uint64_t serve(Channel& c, Bank& b, uint64_t row, const DramRequest& r);
 
   DramParams p_;
-  uint64_t tRCD_, tRP_, tCL_, tBurst_;
+  uint64_t tRCD_ps_, tRP_ps_, tCL_ps_, tBurst_ps_;
   FastDivider row_, channel_, bank_, burst_;  // address to row, channel, bank; bytes to bursts
   std::vector<Channel> channels_;
   uint64_t next_decision_ps_ = kNever;
@@ -114,17 +114,17 @@ inline uint64_t FrFcfsDram::serve(Channel& c, Bank& b, uint64_t row, const DramR
     ++row_hits_;
   } else if (b.open_row == kNoRow) {
     ++row_misses_;
-    column += tRCD_;
+    column += tRCD_ps_;
   } else {
     ++row_conflicts_;
-    column += tRP_ + tRCD_;
+    column += tRP_ps_ + tRCD_ps_;
   }
   const uint32_t bursts = std::max<uint32_t>(1, burst_.div_up(r.bytes));
-  const uint64_t data_start = std::max(column + tCL_, c.bus_free_ps);
-  const uint64_t done = data_start + bursts * tBurst_;
+  const uint64_t data_start = std::max(column + tCL_ps_, c.bus_free_ps);
+  const uint64_t done = data_start + bursts * tBurst_ps_;
   c.bus_free_ps = done;
   b.open_row = row;
-  b.ready_ps = column + bursts * tBurst_;
+  b.ready_ps = column + bursts * tBurst_ps_;
   count(r);
   busy_until_ps_ = std::max(busy_until_ps_, done);
   return done;
