@@ -9,7 +9,7 @@
 
 #include "bench_timing.h"
 #include "app/pipeline.h"
-#include "cache/stream_caches.h"
+#include "cache/fetch_cache.h"
 #include "layout/layout_dispatch.h"
 #include "tracer/host_backend.h"
 #include "tracer/whitted_tracer.h"

@@ -9,7 +9,7 @@
 
 #include <toml++/toml.h>
 
-#include "cache/stream_caches.h"
+#include "cache/fetch_cache.h"
 #include "kdtree/kd_tree.h"
 #include "mem/dram/dram_params.h"
 #include "mem/l1_params.h"

@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-#include "cache/stream_caches.h"
+#include "cache/fetch_cache.h"
 
 namespace rtusim {
 

@@ -11,7 +11,7 @@
 
 #include "layout/memory_image.h"
 #include "model/cycle_params.h"
-#include "tracer/ray_batch.h"
+#include "tracer/trace_backend.h"
 
 namespace sc_core {
 class sc_simcontext;

@@ -6,7 +6,7 @@
 
 #include <systemc>
 
-#include "tracer/ray_batch.h"
+#include "tracer/trace_backend.h"
 
 namespace rtusim {
 

@@ -22,7 +22,7 @@
 #include <vector>
 
 #include "tier/tier.h"
-#include "tracer/ray_batch.h"
+#include "tracer/trace_backend.h"
 
 namespace rtusim {
 

@@ -1,6 +1,6 @@
 #include "sweep/sweep_backend.h"
 
-#include "cache/stream_caches.h"
+#include "cache/fetch_cache.h"
 #include "layout/layout_dispatch.h"
 #include "traversal/traversal.h"
 

@@ -11,7 +11,7 @@
 #include "layout/memory_image.h"
 #include "sweep/cache_sweep.h"
 #include "sweep/sweep_pipeline.h"
-#include "tracer/ray_batch.h"
+#include "tracer/trace_backend.h"
 
 namespace rtusim {
 

@@ -13,10 +13,10 @@
 #include <string>
 #include <vector>
 
-#include "cache/stream_caches.h"
+#include "cache/fetch_cache.h"
 #include "layout/memory_image.h"
 #include "tier/timed_interleaver.h"
-#include "tracer/ray_batch.h"
+#include "tracer/trace_backend.h"
 
 namespace rtusim {
 

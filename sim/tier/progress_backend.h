@@ -4,7 +4,7 @@
 #include <chrono>
 #include <string>
 
-#include "tracer/ray_batch.h"
+#include "tracer/trace_backend.h"
 
 namespace rtusim {
 

@@ -8,11 +8,11 @@
 #include <string>
 #include <vector>
 
-#include "cache/stream_caches.h"
+#include "cache/fetch_cache.h"
 #include "layout/memory_image.h"
 #include "model/cycle_params.h"
 #include "tier/functional_params.h"
-#include "tracer/ray_batch.h"
+#include "tracer/trace_backend.h"
 
 namespace rtusim {
 

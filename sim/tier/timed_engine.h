@@ -49,7 +49,7 @@
 #include <variant>
 #include <vector>
 
-#include "cache/stream_caches.h"
+#include "cache/fetch_cache.h"
 #include "layout/memory_image.h"
 #include "mem/dram/dram_backend.h"
 #include "mem/dram/fr_fcfs_dram.h"

@@ -27,11 +27,11 @@
 #include <span>
 #include <vector>
 
-#include "cache/stream_caches.h"
+#include "cache/fetch_cache.h"
 #include "layout/memory_image.h"
 #include "model/cycle_params.h"
 #include "tier/timed_engine.h"
-#include "tracer/ray_batch.h"
+#include "tracer/trace_backend.h"
 
 namespace rtusim {
 

@@ -6,7 +6,7 @@
 #include <cstdint>
 
 #include "layout/memory_image.h"
-#include "tracer/ray_batch.h"
+#include "tracer/trace_backend.h"
 
 namespace rtusim {
 

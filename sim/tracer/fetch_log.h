@@ -18,9 +18,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "cache/stream_caches.h"
+#include "cache/fetch_cache.h"
 #include "layout/memory_image.h"
-#include "tracer/ray_batch.h"
+#include "tracer/trace_backend.h"
 
 namespace rtusim {
 

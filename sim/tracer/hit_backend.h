@@ -5,7 +5,7 @@
 #include <memory>
 
 #include "layout/memory_image.h"
-#include "tracer/ray_batch.h"
+#include "tracer/trace_backend.h"
 
 namespace rtusim {
 

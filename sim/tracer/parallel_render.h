@@ -12,7 +12,7 @@
 
 #include "scene/pinhole_camera.h"
 #include "scene/scene.h"
-#include "tracer/ray_batch.h"
+#include "tracer/trace_backend.h"
 #include "tracer/tracer_params.h"
 #include "tracer/whitted_tracer.h"
 

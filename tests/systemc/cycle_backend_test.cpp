@@ -5,7 +5,7 @@
 
 #include <random>
 
-#include "cache/stream_caches.h"
+#include "cache/fetch_cache.h"
 #include "config/config_reader.h"
 #include "kdtree/sah_builder.h"
 #include "layout/layout.h"

@@ -9,7 +9,7 @@
 #include "kdtree/sah_builder.h"
 #include "layout/layout.h"
 #include "test_geometry.h"
-#include "tracer/ray_batch.h"
+#include "tracer/trace_backend.h"
 
 namespace rtusim::testing {
 

@@ -19,7 +19,7 @@
 #include "cache/policy/random_policy.h"
 #include "cache/replacement_policy.h"
 #include "cache/set_assoc_cache.h"
-#include "cache/stream_caches.h"
+#include "cache/fetch_cache.h"
 #include "util/error.h"
 #include "util/stats.h"
 

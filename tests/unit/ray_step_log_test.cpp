@@ -16,7 +16,7 @@
 #include "layout/dfl_layout.h"
 #include "layout/node_view.h"
 #include "test_geometry.h"
-#include "tracer/ray_batch.h"
+#include "tracer/trace_backend.h"
 #include "traversal/fetch_recorder.h"
 
 namespace rtusim {

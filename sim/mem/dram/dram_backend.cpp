@@ -1,6 +1,6 @@
 #include "mem/dram/dram_backend.h"
 
-#include "cache/stream_caches.h"
+#include "cache/fetch_cache.h"
 #include "util/stats.h"
 
 namespace rtusim {

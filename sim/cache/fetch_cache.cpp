@@ -1,4 +1,4 @@
-#include "cache/stream_caches.h"
+#include "cache/fetch_cache.h"
 
 #include "util/stats.h"
 
