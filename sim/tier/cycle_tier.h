@@ -9,6 +9,7 @@ namespace rtusim {
 class CycleTier : public TierRun {
  public:
   static constexpr const char* kName = "cycle";
+  static constexpr const char* kSummary = "SystemC unit, L1 MSHRs, DRAM timing";
   // SystemC's kernel is one global simulation: one layout per process.
   static constexpr LayoutConcurrency kLayoutConcurrency = LayoutConcurrency::kProcesses;
   CycleTier(const MemoryImage& image, const TierConfig& config) : backend_(image, config.cycle) {}
@@ -24,6 +25,7 @@ class CycleTier : public TierRun {
 class RtlTier final : public CycleTier {
  public:
   static constexpr const char* kName = "rtl";
+  static constexpr const char* kSummary = "cycle with the Verilated node L1";
   using CycleTier::CycleTier;
 };
 

@@ -10,6 +10,7 @@ namespace rtusim {
 class FunctionalTier final : public TierRun {
  public:
   static constexpr const char* kName = "functional";
+  static constexpr const char* kSummary = "caches, no time";
   // Runs share nothing but the (read-only) scene and image: layouts may run on other threads.
   static constexpr LayoutConcurrency kLayoutConcurrency = LayoutConcurrency::kThreads;
   FunctionalTier(const MemoryImage& image, const TierConfig& config)

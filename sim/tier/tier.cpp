@@ -6,9 +6,8 @@
 
 namespace rtusim {
 namespace {
-const StringParam kTier("sim.tier", "functional", Tiers::names(), "",
-                        "fidelity: functional (caches, no time), cycle (SystemC unit, L1 "
-                        "MSHRs, DRAM timing), rtl (cycle with the Verilated node L1)");
+const StringParam kTier("sim.tier", FunctionalTier::kName, Tiers::names(), "",
+                        "fidelity: " + Tiers::summaries_text());
 }  // namespace
 
 std::unique_ptr<TierRun> make_tier(const std::string& name, const MemoryImage& image,

@@ -27,6 +27,13 @@ struct TypeRegistry {
     ((t += (t.empty() ? "" : ", ") + std::string(Ts::kName)), ...);
     return t;
   }
+  // "a (what a is), b (...)" from each T's `static constexpr const char* kSummary`, for a key's
+  // description: it lists what is registered, not a copy of the list.
+  static std::string summaries_text() {
+    std::string t;
+    ((t += (t.empty() ? "" : ", ") + std::string(Ts::kName) + " (" + Ts::kSummary + ")"), ...);
+    return t;
+  }
   // f.template operator()<T>() for the T called `name`; an unknown name is an internal error
   // (names are checked when the config is read).
   template <class F>

@@ -1,6 +1,6 @@
 // The registry of DRAM timing models (dram.backend): one entry per model, the first the
-// default. A new model is its own file (a final DramBackend with kName and a (const DramParams&)
-// constructor) plus its entry here.
+// default. A new model is its own file (a final DramBackend with kName, kSummary for the
+// dram.backend description, and a (const DramParams&) constructor) plus its entry here.
 #pragma once
 #include <memory>
 

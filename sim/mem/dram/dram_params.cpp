@@ -65,8 +65,7 @@ namespace {
 
 const DramParams kDefaults;
 const StringParam kBackend("dram.backend", kDefaults.backend, DramBackends::names(), "",
-                           "DRAM timing model: fr-fcfs (banks, rows, FR-FCFS) or fixed "
-                           "(fixed latency, bus bandwidth)");
+                           "DRAM timing model: " + DramBackends::summaries_text());
 const StringParam kStandard("dram.standard", kDefaults.standard, known_dram_standards(), "",
                             "speed-grade preset: the default of dram.data_rate_mts, "
                             "tRCD_ns, tRP_ns, tCL_ns and latency_ns");

@@ -16,6 +16,7 @@ namespace rtusim {
 class FixedLatencyDram final : public DramBackend {
  public:
   static constexpr const char* kName = "fixed";
+  static constexpr const char* kSummary = "a fixed latency, then the bus";
 
   // Validates `p` (keys named "dram.*").
   explicit FixedLatencyDram(const DramParams& p);

@@ -24,6 +24,7 @@ namespace rtusim {
 class FrFcfsDram final : public DramBackend {
  public:
   static constexpr const char* kName = "fr-fcfs";
+  static constexpr const char* kSummary = "banks, open rows, FR-FCFS per channel";
 
   // Validates `p` (keys named "dram.*").
   explicit FrFcfsDram(const DramParams& p);
