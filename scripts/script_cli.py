@@ -69,31 +69,47 @@ def output_dir(path, option="--out"):
     return path
 
 
-def write_atomically(path, write):
-    """Calls write(file) on a temporary file beside `path`, then renames it to `path`: a failure
-    leaves an earlier `path` as it was."""
-    path = pathlib.Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=path.suffix, dir=path.parent)
+def _mode_for(path):
+    """The mode `path` has, or a new file's (0666 less the umask): mkstemp's files are 0600."""
     try:
+        return path.stat().st_mode & 0o7777
+    except FileNotFoundError:
+        umask = os.umask(0)
+        os.umask(umask)
+        return 0o666 & ~umask
+
+
+def _replace_through_temp(path, write_temp):
+    """write_temp(tmp) writes a temporary file beside `path`, which then replaces `path` with
+    `path`'s mode: a failure leaves an earlier `path` as it was, and is a ScriptError."""
+    path = pathlib.Path(path)
+    tmp = None
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=path.suffix, dir=path.parent)
+        os.fchmod(fd, _mode_for(path))
+        write_temp(fd, tmp)
+        os.replace(tmp, path)
+    except OSError as e:
+        raise ScriptError(f"{path}: cannot write ({e.strerror or e})")
+    finally:
+        if tmp is not None:
+            pathlib.Path(tmp).unlink(missing_ok=True)
+
+
+def write_atomically(path, write):
+    """Calls write(file) on a temporary file beside `path`, then renames it to `path`."""
+    def write_temp(fd, _tmp):
         with os.fdopen(fd, "w", newline="") as f:
             write(f)
-        os.replace(tmp, path)
-    except BaseException:
-        pathlib.Path(tmp).unlink(missing_ok=True)
-        raise
+    _replace_through_temp(path, write_temp)
 
 
 def save_figure(fig, path, **kwargs):
     """fig.savefig through a temporary file (an earlier chart stays if drawing fails)."""
-    path = pathlib.Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=path.suffix, dir=path.parent)
-    os.close(fd)
-    try:
+    def write_temp(fd, tmp):
+        os.close(fd)
         fig.savefig(tmp, **kwargs)
-        os.replace(tmp, path)
-    except BaseException:
-        pathlib.Path(tmp).unlink(missing_ok=True)
-        raise
+    _replace_through_temp(path, write_temp)
 
 
 def run_rtusim(cmd, what):

@@ -199,7 +199,13 @@ def main():
     csv_path = args.out / f"speed_accuracy_{name}.csv"
     if args.replot:
         rows = read_csv(csv_path)
-        settings = {k: int(rows[0][k]) for k in SETTINGS}
+        settings = {}
+        for k in SETTINGS:
+            if rows[0][k] is None:
+                raise ScriptError(f"--replot: {csv_path}: column {k} is empty")
+            settings[k] = int(rows[0][k])
+        for r in rows:  # written back as the integers they are
+            r.update(settings)
     else:
         existing_file(args.config, "CONFIG")
         existing_file(args.rtusim, "--rtusim")

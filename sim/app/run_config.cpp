@@ -2,6 +2,7 @@
 // by their parts), read in one pass.
 #include "app/run_config.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 
@@ -151,6 +152,18 @@ RunConfig load_run_config(const std::string& path, const std::vector<std::string
         r.fail(KeyError("sim.vcd", vcd_file + ": is a directory (need a file name)"));
     }
   c.dram = read_dram_params(r);
+  // The timed tiers place a request (a line, or a burst straight to DRAM) in a bank and a row
+  // by its first byte: it must fit in a row (the functional tier has no rows).
+  if (c.sim.tier != "functional") {
+    const uint64_t request = std::max<uint64_t>(
+        {c.l1.params.cache.line_bytes, c.dcache.enable ? c.dcache.params.cache.line_bytes : 0,
+         c.dram.burst_bytes()});
+    if (c.dram.row_bytes < request)
+      r.fail(KeyError("dram.row_bytes", std::to_string(c.dram.row_bytes) +
+                                            " is smaller than a request to DRAM (" +
+                                            std::to_string(request) +
+                                            " bytes: l1.line, dcache.line or the burst)"));
+  }
   c.functional = read_functional_params(r);
   if (c.sim.tier == "rtl") {
     // The rtl tier is the cycle tier with the Verilated node L1.

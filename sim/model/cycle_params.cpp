@@ -37,14 +37,6 @@ void CycleParams::finish() {
 void validate(const CycleParams& p) {
   if (!(p.clock_mhz > 0)) throw KeyError("sim.clock_mhz", "must be positive");
   validate(p.unit);
-  // A request (a line, or a burst straight to DRAM) is mapped to a bank and a row by its first
-  // byte: it must fit in a row.
-  const uint64_t request = std::max(p.node_l1.cache.line_bytes, p.unit.data_line_bytes);
-  if (p.dram.row_bytes < request)
-    throw KeyError("dram.row_bytes", std::to_string(p.dram.row_bytes) +
-                                         " is smaller than a request to DRAM (" +
-                                         std::to_string(request) + " bytes: l1.line, dcache.line "
-                                         "or the burst)");
   validate_timing(p.node_l1, "l1");
   if (p.data_cache) validate_timing(*p.data_cache, "dcache");
   if (p.node_l1_model == "rtl") {

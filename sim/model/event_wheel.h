@@ -1,9 +1,10 @@
-// A timing wheel of events per ray slot, the unit's first event queue: UnitQueue (unit_queue.h)
-// replaced it and keeps its constants and first_marked_cycle(); tests use the class as the
-// reference queue. At most one event per ray slot, at a cycle no earlier than the last one taken. A timing wheel of one bucket per cycle over the next kWheelCycles (FIFO
-// lists threaded through the slots, a bitmap of non-empty buckets), plus a heap for the rare
-// event further ahead. Push and pop are O(1) when events are dense in time, as they are when the
-// unit is busy; a binary heap costs a mispredicted branch per level.
+// The unit's first event queue: UnitQueue (unit_queue.h) replaced it and keeps its constants
+// and first_marked_cycle(); tests use the class as the reference queue. At most one event per
+// ray slot, at a cycle no earlier than the last one taken. A timing wheel of one bucket per
+// cycle over the next kWheelCycles (FIFO lists threaded through the slots, a bitmap of
+// non-empty buckets), plus a heap for the rare event further ahead. Push and pop are O(1) when
+// events are dense in time, as they are when the unit is busy; a binary heap costs a
+// mispredicted branch per level.
 // Events of one cycle come out in push order, or with `slot_order` in slot order (the bucket's
 // list is kept sorted: short, one entry per slot due that cycle).
 #pragma once

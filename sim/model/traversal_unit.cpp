@@ -68,11 +68,14 @@ void TraversalUnit::run() {
     }
     try {
       with_layout_decoder(image_, [&]<class Decoder>() { run_batch<Decoder>(); });
+    } catch (const sc_core::sc_unwind_exception&) {
+      throw;  // the kernel's own (a process killed or reset): it must go on
     } catch (...) {  // to the host, as thrown: the kernel would wrap it as its own error
       error_ = std::current_exception();
-      // Stopped quietly: the error is the host's to report, in one line.
-      sc_core::sc_report_handler::set_actions("/OSCI/SystemC", sc_core::SC_INFO,
-                                              sc_core::SC_DO_NOTHING);
+      // Stopped quietly (take_error() puts the kernel's info messages back): the error is the
+      // host's to report, in one line.
+      info_actions_ = sc_core::sc_report_handler::set_actions(
+          "/OSCI/SystemC", sc_core::SC_INFO, sc_core::SC_DO_NOTHING);
       sc_core::sc_stop();
       return;
     }

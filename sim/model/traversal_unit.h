@@ -94,7 +94,11 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
   void write_stats(Stats& stats) const;  // unit.*
   // An error the unit's thread stopped the simulation with (the kernel would report it as an
   // internal error): rethrown by the host after sc_start(). Null when there is none.
-  std::exception_ptr take_error() { return std::exchange(error_, nullptr); }
+  std::exception_ptr take_error() {
+    if (error_)
+      sc_core::sc_report_handler::set_actions("/OSCI/SystemC", sc_core::SC_INFO, info_actions_);
+    return std::exchange(error_, nullptr);
+  }
 
   // Dumps the unit's state (rays active, steps, leaf steps, intersection tests) to `vcd` at the
   // unit's own cycle times; nullptr: none.
@@ -130,6 +134,7 @@ class TraversalUnit : public sc_core::sc_module, public DirectInitiator {
 
   void run();
   std::exception_ptr error_;
+  sc_core::sc_actions info_actions_ = 0;  // the kernel's info actions before run() stopped it
   template <class Decoder>
   void run_batch();
   // Times inside the unit are cycles of its clock; picoseconds only at the sockets.

@@ -22,10 +22,10 @@ const char* const kPairedKeys[] = {"dram.bytes.nodes", "dram.bytes.total", "l1.m
                                    "sim.cycles", "estimate.cycles"};
 
 // The cycle tier's unit and DRAM counters: sums over rays and requests like the others.
-const char* const kUnitCounters[] = {"unit.rays",   "unit.steps",        "unit.leaf_steps",
-                                     "unit.isect_tests", "unit.events", "unit.kernel_waits",
-                                     "dram.requests", "dram.row_hits",  "dram.row_misses",
-                                     "dram.row_conflicts"};
+const char* const kUnitCounters[] = {
+    "unit.rays",     "unit.steps",    "unit.leaf_steps", "unit.isect_tests",  "unit.events",
+    "unit.kernel_waits", "unit.stack_overflow_steps", "dram.requests", "dram.row_hits",
+    "dram.row_misses", "dram.row_conflicts"};
 
 bool is_ray_key(const std::string& key) {
   return key == "rays.total" || std::find(std::begin(kRayKeys), std::end(kRayKeys), key) !=
@@ -165,14 +165,30 @@ Estimate SampledFrame::estimate(const LayoutSample& sample,
   return estimator_.total(values, strata_taken_);
 }
 
+Estimate SampledFrame::figure(const LayoutSample& sample, const std::string& key) const {
+  const std::vector<double>& values = sample.values.at(key);
+  if (order_ == RayOrder::kWavefront || (key != "rays.primary" && key != "rays.total"))
+    return estimate(sample, values);
+  const double pixels = double(width_) * height_;
+  if (key == "rays.primary") return Estimate{.value = pixels};
+  const std::vector<double>& primary = sample.values.at("rays.primary");
+  std::vector<double> others(values.size());
+  for (size_t i = 0; i < values.size(); ++i) others[i] = values[i] - primary[i];
+  Estimate e = estimate(sample, others);
+  e.value += pixels;
+  return e;
+}
+
 std::pair<double, std::string> SampledFrame::widest_ci(const LayoutSample& sample) const {
-  // In wavefront order rays.* are counted exactly: a target on one is met with no width.
-  if (order_ == RayOrder::kWavefront && is_ray_key(params_.target_key))
+  // In wavefront order rays.* are counted exactly, and rays.primary in any order: a target on
+  // one is met with no width.
+  if ((order_ == RayOrder::kWavefront && is_ray_key(params_.target_key)) ||
+      params_.target_key == "rays.primary")
     return {0.0, params_.target_key};
   std::pair<double, std::string> widest{0.0, ""};
   for (const auto& [key, values] : sample.values) {
     if (!params_.target_key.empty() && key != params_.target_key) continue;
-    const double w = estimate(sample, values).relative_half_width();
+    const double w = figure(sample, key).relative_half_width();
     if (w > widest.first || widest.second.empty()) widest = {w, key};
   }
   return widest;
@@ -240,7 +256,7 @@ void SampledFrame::finish_layout(FrameResult& frame, Stats& stats) const {
   const LayoutSample& sample = layouts_.back();
   const Stats measured = stats;  // the tier's own counts: the measured and the warming rays'
   for (const auto& [key, values] : sample.values) {
-    const Estimate e = estimate(sample, values);
+    const Estimate e = figure(sample, key);
     stats.set(key, e.value);
     // Every figure here is a count, never below zero: so is its interval (a paired difference's
     // below may be negative).
@@ -258,15 +274,11 @@ void SampledFrame::finish_layout(FrameResult& frame, Stats& stats) const {
       stats.set(key + ".ci95_high", rays);
     }
   } else {
-    // One primary ray per pixel: known, not estimated (units of unequal size made a
-    // zero-width CI that missed it).
-    const double primary = double(width_) * height_;
-    stats.set("rays.primary", primary);
-    stats.set("rays.primary.ci95_low", primary);
-    stats.set("rays.primary.ci95_high", primary);
+    // rays.primary is the pixel count (units of unequal size made a zero-width CI that missed
+    // it), rays.total that plus the other rays' estimate (figure()).
     for (int k = 0; k < kRayKinds; ++k)
-      frame.rays_by_kind[k] = static_cast<uint64_t>(std::llround(
-          k == 0 ? primary : estimate(sample, sample.values.at(kRayKeys[k])).value));
+      frame.rays_by_kind[k] =
+          static_cast<uint64_t>(std::llround(figure(sample, kRayKeys[k]).value));
   }
   // Figures derived from counts, from the estimated counts: a rate over simulated time scales
   // with its count and inversely with the cycles; the shares are ratios of estimates.

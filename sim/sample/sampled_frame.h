@@ -74,6 +74,10 @@ class SampledFrame {
   std::vector<uint32_t> round_units(size_t from, size_t to) const;
   // Whole-frame estimate of a figure measured per unit of `sample` (sample.estimator's).
   Estimate estimate(const LayoutSample& sample, const std::vector<double>& values) const;
+  // Whole-frame estimate of the figure `key` of `sample`: estimate() of its per-unit values,
+  // but in recursive order rays.primary is the pixel count, exactly, and rays.total that plus
+  // the estimated other rays (wavefront order: every rays.* is exact, see finish_layout()).
+  Estimate figure(const LayoutSample& sample, const std::string& key) const;
   // Largest relative half-width over the target figures, and the figure it belongs to.
   std::pair<double, std::string> widest_ci(const LayoutSample& sample) const;
 

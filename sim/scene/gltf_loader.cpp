@@ -639,11 +639,12 @@ class GltfFlattener {
                                    : "camera" + std::to_string(inst.node);
     out.eye = glm::vec3(eye);
     // The target one unit ahead (the profile layout's training view turns about it), or, where
-    // float rounding would bend that step (an eye far from the origin: at 1e6 by ~1 degree, at
-    // 3e7 the target equals the eye), as far ahead as the eye is from the origin.
+    // float rounding bends that step by over 1e-4 rad (a tenth of a pixel at 1024^2; an eye
+    // some 4000 units or more from the origin: at 1e6 by ~1 degree, at 3e7 the target equals
+    // the eye), as far ahead as the eye is from the origin.
     out.target = glm::vec3(eye + forward);
     const glm::dvec3 step = glm::dvec3(out.target) - glm::dvec3(out.eye);
-    if (!(glm::length(step) > 0.0) || glm::dot(glm::normalize(step), forward) < std::cos(1e-6))
+    if (!(glm::length(step) > 0.0) || glm::dot(glm::normalize(step), forward) < std::cos(1e-4))
       out.target = glm::vec3(eye + forward * glm::length(eye));
     out.up = glm::vec3(glm::normalize(linear * glm::dvec3(0.0, 1.0, 0.0)));
     out.vfov_deg = static_cast<float>(glm::degrees(cam.perspective.yfov));

@@ -14,9 +14,10 @@
 // (they fill the rays in flight, the L1 and the DRAM's rows; W is at least 4 x the rays in
 // flight, so those in flight at the cut are a steady mix), and measures from the moment its
 // first ray starts to the moment its rays run out (the next run's first ray would start); the
-// last run measures to its last ray's end. The batch's figures are the sum of the runs' (its
-// cycles too: the runs' windows tile the batch's time), so they approximate the one-model run's
-// to within what W warming rays miss at each of the k - 1 cuts; the next batch goes on from the
+// last run measures to its last ray's end. The batch's cache, DRAM and time figures are the sum
+// of the runs' windows (the cycles too: the windows tile the batch's time), so they approximate
+// the one-model run's to within what W warming rays miss at each of the k - 1 cuts; its fetch
+// counts are its rays' own, exactly (each run counts the rays it measures); the next batch goes on from the
 // last run's model and caches. k depends on the batch and the keys only, never on the threads:
 // the figures are the same for any thread count.
 #pragma once
@@ -31,6 +32,7 @@
 #include "layout/memory_image.h"
 #include "model/cycle_params.h"
 #include "tier/timed_engine.h"
+#include "traversal/ray_step_log.h"
 #include "tracer/trace_backend.h"
 
 namespace rtusim {
@@ -66,8 +68,7 @@ class TimedInterleaver {
   // The batch in k runs on any thread.
   void trace_runs(std::span<const RayRecord> rays, std::span<Hit> hits, FetchCache& caches,
                   const Charge& charge, size_t k);
-  // Fetches per stream (index: Stream).
-  using StreamFetches = std::array<uint64_t, 3>;
+  using StreamFetches = RayStepLog::StreamFetches;
   // Records rays [begin, end) into `log` (cleared first); the hits of those from first_hit on
   // into hits, and their fetches added to *own_fetches when given.
   void record(std::span<const RayRecord> rays, size_t begin, size_t end, size_t first_hit,

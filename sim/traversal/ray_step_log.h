@@ -43,8 +43,10 @@ class RayStepLog {
     fetches_ = {};
   }
 
-  // Fetches recorded since clear(), per stream (index: Stream).
-  const std::array<uint64_t, 3>& fetches() const { return fetches_; }
+  // Fetches per stream (index: Stream).
+  using StreamFetches = std::array<uint64_t, 3>;
+  // Fetches recorded since clear().
+  const StreamFetches& fetches() const { return fetches_; }
 
   // Traverses `ray` (a RayRecord: its ray, any_hit() and pixel) through `image` and appends
   // its steps; returns its hit. `after_step` is called with the ray's state after each step.
@@ -116,7 +118,7 @@ class RayStepLog {
     }
   };
   void put(Kind k, uint64_t addr, uint32_t bytes) {
-    ++fetches_[k == Kind::kList ? 1 : k == Kind::kTriangle ? 2 : 0];
+    ++fetches_[static_cast<int>(Fetch{k, 0, 0}.stream())];
     if (bytes < kLongBytes && addr >> (64 - kAddrShift) == 0) [[likely]] {
       words_.push_back(addr << kAddrShift | uint64_t{bytes} << kBytesShift | uint64_t(k));
       return;
@@ -132,7 +134,7 @@ class RayStepLog {
   };
   std::vector<uint64_t> words_;
   std::vector<RayEnd> rays_;
-  std::array<uint64_t, 3> fetches_{};
+  StreamFetches fetches_{};
 };
 
 }  // namespace rtusim

@@ -81,7 +81,9 @@ expect_bad cfg_vcd_directory '^rtusim: --set sim.vcd=.*: sim.vcd: .*: is a direc
 expect_bad cycle_time_limit 'simulated time reached 2\^44 cycles' run "$D" --set sim.tier=cycle --set kdtree.max_depth=0 --set tracer.max_depth=0 --set isect.interval_cycles=1048576 --set image.width=64 --set image.height=64
 # A DRAM row smaller than a line (each request is placed by its first byte); "full" ways over
 # the ways' limit (a 1 GiB cache of 4-byte lines: it ran for minutes).
-expect_bad cfg_row_below_line '^rtusim: --set dram.row_bytes=8: dram.row_bytes: 8 is smaller than a request' run "$D" --set dram.row_bytes=8 --set dram.burst_length=1
+expect_bad cfg_row_below_line '^rtusim: --set dram.row_bytes=8: dram.row_bytes: 8 is smaller than a request' run "$D" --set sim.tier=cycle --set dram.row_bytes=8 --set dram.burst_length=1
+# ... in the timed tiers only: the functional tier has no rows.
+if "$rtusim" run "$D" --set image.width=8 --set image.height=8 --set l1.line=16384 --set l1.size=65536 --out "$out" > /dev/null 2>&1; then pass=$((pass+1)); else bad "functional_line_over_row: rejected"; fi
 expect_bad cfg_full_ways_limit '^rtusim: --set l1.assoc=full: l1.assoc: 268435456 ways' run "$D" --set l1.assoc=full --set l1.size=1073741824 --set l1.line=4
 # Several layouts: each layout's file (stem_<layout>) checked before any simulation (it failed
 # after the first layout had run and left its complete VCD beside the directory).

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The Python scripts on bad input: one line (no traceback), exit status 2, no output written and
 # an earlier output kept. Also: a sampled point whose CI is open-ended (one unit) is charted, not
-# a crash; sweep_plot titles the layout comparison with the base config's L1.
+# a crash; sweep_plot compares layouts at the base config's L1 (base_cache() reads it).
 set -uo pipefail
 rtusim=$1; src=$2
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT

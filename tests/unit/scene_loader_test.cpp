@@ -428,7 +428,7 @@ TEST_F(SceneLoaderTest, CameraFromNode) {
 // A camera far from the origin keeps its view direction (a unit step ahead of an eye at 1e6
 // rounded to a target ~1 degree off; at 3e7 to the eye itself, and the camera was refused).
 TEST_F(SceneLoaderTest, FarCameraKeepsItsDirection) {
-  for (const double d : {1e6, 3e7}) {
+  for (const double d : {100.0, 1e6, 3e7}) {
     GltfBuilder b;
     b.simple_mesh("tri", kTriangle);
     b.doc["cameras"] = json::array({{{"type", "perspective"}, {"perspective", {{"yfov", 0.5}, {"znear", 0.01}}}}});
@@ -442,6 +442,9 @@ TEST_F(SceneLoaderTest, FarCameraKeepsItsDirection) {
     const glm::dvec3 f = glm::normalize(glm::dvec3(s.cameras[0].target) - glm::dvec3(s.cameras[0].eye));
     const glm::dvec3 want(-std::sin(2 * half), 0.0, -std::cos(2 * half));
     EXPECT_LT(std::acos(std::min(1.0, glm::dot(f, want))), 1e-5) << "view direction off at " << d;
+    // Near the origin the target stays one unit ahead (the profile layout turns about it).
+    const double step = glm::length(glm::dvec3(s.cameras[0].target) - glm::dvec3(s.cameras[0].eye));
+    if (d < 1000.0) EXPECT_NEAR(step, 1.0, 1e-3) << "eye at " << d;
   }
 }
 
