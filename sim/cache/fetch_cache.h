@@ -206,7 +206,7 @@ class FetchCache {
 
   SetAssocCache node_l1_;
   std::optional<SetAssocCache> data_cache_;
-  uint32_t burst_bytes_ = 64;  // FetchCacheParams::dram_burst_bytes
+  uint32_t burst_bytes_ = FetchCacheParams{}.dram_burst_bytes;  // set from the params
   Counters counters_{};
 };
 

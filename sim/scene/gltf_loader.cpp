@@ -355,9 +355,9 @@ class GltfFlattener {
     if (!(value >= low && value <= high))
       fail("material " + std::to_string(index) + (m.name.empty() ? "" : " '" + m.name + "'") +
            ": " + what + " " + format_number(value) + " is not in [" + format_number(low) +
-           ", " + (std::isinf(high) ? std::string("inf") : format_number(high)) + "]");
+           ", " + format_number(high) + "]");
   }
-  static std::string format_number(double v) {
+  static std::string format_number(double v) {  // as written: 1.5, 5, -0.5, inf
     std::ostringstream os;
     os << v;
     return os.str();
@@ -541,14 +541,14 @@ class GltfFlattener {
     for (size_t i = 0; i < pos.count; ++i) {
       const glm::vec3 p = read_vec3(pos, i);
       const glm::vec3 w = identity ? p : glm::vec3(inst.world * glm::dvec4(p, 1.0));
-      if (!std::isfinite(w.x) || !std::isfinite(w.y) || !std::isfinite(w.z))
+      // Finite, and not beyond kMaxCoordinate, where the ray/triangle test's float products
+      // overflow (the camera's own limit is ~1e19): refused rather than rays missing triangles.
+      const bool finite = std::isfinite(w.x) && std::isfinite(w.y) && std::isfinite(w.z);
+      if (!finite || std::max({std::abs(w.x), std::abs(w.y), std::abs(w.z)}) > kMaxCoordinate)
         fail("accessor " + std::to_string(pos_it->second) + " (POSITION " + where + "): element " +
-             std::to_string(i) + " is not a finite position");
-      // Beyond this the ray/triangle test's float products overflow (the camera's own limit
-      // is ~1e19): refused rather than rays missing triangles.
-      if (std::max({std::abs(w.x), std::abs(w.y), std::abs(w.z)}) > kMaxCoordinate)
-        fail("accessor " + std::to_string(pos_it->second) + " (POSITION " + where + "): element " +
-             std::to_string(i) + " lies beyond +-1e18, too far out for single precision");
+             std::to_string(i) +
+             (finite ? " lies beyond +-1e18, too far out for single precision"
+                     : " is not a finite position"));
       scene.positions.push_back(w);
       if (!has_normals) {
         scene.normals.emplace_back(0.0f);
@@ -702,7 +702,6 @@ SceneLimits SceneLimits::from_environment() {
 
 Scene load_gltf(const std::string& path, const SceneLimits& limits) {
   std::error_code ec;
-  if (path.empty()) throw InputError("the scene path is empty (need a .gltf or .glb file)");
   if (std::filesystem::is_directory(path, ec))
     throw InputError(path + ": is a directory (need a .gltf or .glb file)");
   const std::string ext = lower(std::filesystem::path(path).extension().string());

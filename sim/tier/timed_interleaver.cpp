@@ -54,16 +54,19 @@ void TimedInterleaver::record(std::span<const RayRecord> rays, size_t begin, siz
                               size_t first_hit, std::span<Hit> hits, RayStepLog& log,
                               StreamFetches* own_fetches) const {
   log.clear();
+  // The own rays [first_hit, end) follow the warming ones: their fetches are the log's counts
+  // past those it had when the first of them began.
+  StreamFetches before_own{};
   with_layout_decoder(image_, [&]<class Decoder>() {
     for (size_t i = begin; i < end; ++i) {
-      const StreamFetches before = log.fetches();
+      if (i == first_hit) before_own = log.fetches();
       const Hit h = log.record<Decoder>(image_, rays[i]);
-      if (i < first_hit) continue;
-      hits[i] = h;
-      if (own_fetches)
-        for (size_t k = 0; k < before.size(); ++k) (*own_fetches)[k] += log.fetches()[k] - before[k];
+      if (i >= first_hit) hits[i] = h;
     }
   });
+  if (own_fetches && first_hit < end)
+    for (size_t k = 0; k < before_own.size(); ++k)
+      (*own_fetches)[k] += log.fetches()[k] - before_own[k];
 }
 
 void TimedInterleaver::trace_whole(std::span<const RayRecord> rays, std::span<Hit> hits,

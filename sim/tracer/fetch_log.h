@@ -142,7 +142,7 @@ class FetchLog {
   std::vector<RayEnd> rays_;
   int node_line_shift_ = -1;  // -1: every node fetch logged
   bool direct_ = false;
-  uint32_t burst_bytes_ = 64;  // ReplayNeeds::dram_burst_bytes
+  uint32_t burst_bytes_ = ReplayNeeds{}.dram_burst_bytes;  // set_needs()' (used with direct_)
   uint64_t last_node_line_ = kNoLine;
   uint64_t counted_node_hits_ = 0;
   std::array<DirectCount, FetchCache::kStreams> direct_counts_{};

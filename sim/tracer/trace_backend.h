@@ -35,7 +35,7 @@ struct ReplayNeeds {
   // List and triangle fetches go straight to DRAM: their bursts (of dram_burst_bytes) are
   // counted, not logged.
   bool lists_triangles_direct = false;
-  uint32_t dram_burst_bytes = 64;
+  uint32_t dram_burst_bytes = 64;  // FetchCache's burst (default: FetchCacheParams')
 };
 
 // Something that traces ray batches: hits[i] is the hit of rays[i].
