@@ -19,6 +19,7 @@ struct TraceOptions {
   std::vector<std::string> overrides;  // --set KEY=VALUE
   std::string out;                     // --out FILE
   std::string format = "din";          // --format din|bin
+  std::string level = "l1";            // --level l1 (the node stream) | l2 (the L2's input)
 };
 
 struct ReplayOptions {

@@ -45,6 +45,10 @@ int main(int argc, char** argv) {
   trace->add_option("--format", trace_opts.format,
                     "din (Dinero IV, default), din-sized (din + access size) or bin")
       ->check(CLI::IsMember({"din", "din-sized", "bin"}));
+  trace->add_option("--level", trace_opts.level,
+                    "l1: the node-fetch stream (default); l2: the addresses of the requests the "
+                    "shared L2 takes, in its order (din only; needs l2.enable)")
+      ->check(CLI::IsMember({"l1", "l2"}));
   add_threads(trace);
 
   ReplayOptions replay_opts;

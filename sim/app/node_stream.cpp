@@ -2,6 +2,7 @@
 #include "app/node_stream.h"
 
 #include "scene/pinhole_camera.h"
+#include "tier/chip_functional_backend.h"
 #include "trace/node_stream_backend.h"
 #include "tracer/parallel_render.h"
 
@@ -37,6 +38,15 @@ TraceDigest node_stream_digest(const Prepared& p, const MemoryImage& image) {
 void write_node_stream(const Prepared& p, const MemoryImage& image, TraceWriter& writer) {
   WriterRecorder r(writer);
   render_frame(p, image, r);
+}
+
+void write_l2_stream(const Prepared& p, const MemoryImage& image, TraceWriter& writer) {
+  const int w = p.config.image.width, h = p.config.image.height;
+  ChipFunctionalBackend backend(image, p.config.fetch_caches(), p.config.chip,
+                                static_cast<uint32_t>(w), static_cast<uint32_t>(w * h));
+  backend.chip().observe_l2([&](const NextLevelRequest& r) { writer.append(r.addr); });
+  parallel_render(p.scene, p.config.tracer, backend, PinholeCamera(p.camera, w, h), w, h);
+  backend.end_frame();
 }
 
 }  // namespace rtusim

@@ -11,5 +11,9 @@ namespace rtusim {
 TraceDigest node_stream_digest(const Prepared& p, const MemoryImage& image);
 // Traces the frame over `image` into `writer` (not finished).
 void write_node_stream(const Prepared& p, const MemoryImage& image, TraceWriter& writer);
+// Traces the frame over `image` through the chip's functional tier (l2.enable on) and writes
+// the address of each request the L2 takes (a line an L1 missed, or a burst past the units'
+// caches), in the L2's order, into `writer` (not finished).
+void write_l2_stream(const Prepared& p, const MemoryImage& image, TraceWriter& writer);
 
 }  // namespace rtusim

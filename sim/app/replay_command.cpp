@@ -5,8 +5,8 @@
 
 #include "app/commands.h"
 #include "app/trace_replay.h"
-#include "cache/cache_config.h"
 #include "config/config_reader.h"
+#include "mem/l1_params.h"
 #include "trace/trace_format.h"
 
 namespace rtusim {
@@ -14,7 +14,7 @@ namespace rtusim {
 int replay_command(const ReplayOptions& opts) {
   ConfigReader r = ConfigReader::from_string("", "replay --set");
   for (const auto& o : opts.overrides) r.apply_override(o);
-  const CacheParams params = read_cache_params(r, "l1");
+  const CacheParams params = read_node_l1_geometry(r);
   r.reject_unknown_keys("replay takes l1.size, l1.assoc, l1.line, l1.policy and l1.seed");
 
   TraceReader reader(opts.trace);

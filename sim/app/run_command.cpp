@@ -33,12 +33,27 @@ void print_summary(const RunOptions& opts, const std::string& out_dir, const Pre
   std::printf("  node L1  %llu B, %u-way, %u B lines, %s; GB/s at %.0f frames/s\n",
               (unsigned long long)l1.size_bytes, l1.assoc, l1.line_bytes, l1.policy.c_str(),
               p.config.report.frames_per_second);
+  const ChipParams& chip = p.config.chip;
+  if (!chip.single_unit()) {
+    std::printf("  chip     %u unit%s (%s)", chip.units, chip.units > 1 ? "s" : "",
+                chip.distribution == RayDistribution::kTiles
+                    ? ("tiles of " + std::to_string(chip.tile_pixels) + "x" +
+                       std::to_string(chip.tile_pixels) + " pixels")
+                          .c_str()
+                    : ("runs of " + std::to_string(chip.batch_rays) + " rays").c_str());
+    if (chip.l2)
+      std::printf(", shared L2 %llu B, %u-way, %u B lines, %s", (unsigned long long)chip.l2->size_bytes,
+                  chip.l2->assoc, chip.l2->line_bytes, chip.l2->policy.c_str());
+    std::printf("\n");
+  }
+  const bool l2 = r.stats.has("l2.accesses");  // all streams: L1s -> L2 -> DRAM
   const bool timed = r.stats.has("sim.cycles");  // a tier that keeps time
   int name_width = 8;  // the layout column: as wide as its longest name (subtree-bfs: 11)
   for (const LayoutRun& run : r.layouts)
     name_width = std::max(name_width, static_cast<int>(run.kind.size()));
   std::printf("  %-*s %12s %12s %10s %11s %9s %9s", name_width, "layout", "node memory", "L1 misses",
               "miss rate", "node B/ray", "node MB", "node GB/s");
+  if (l2) std::printf(" %11s %8s %9s", "L1->L2 GB/s", "L2 miss", "DRAM GB/s");
   if (timed) std::printf(" %12s %9s %8s", "cycles", "DRAM GB/s", "Mrays/s");
   std::printf("\n");
   for (const LayoutRun& run : r.layouts) {
@@ -50,6 +65,12 @@ void print_summary(const RunOptions& opts, const std::string& out_dir, const Pre
                 s.at("report.node_dram_bytes_per_ray").get<double>(),
                 s.at("dram.bytes.nodes").get<double>() / 1e6,
                 s.at("report.node_gbytes_per_second").get<double>());
+    if (l2) {
+      const double fps = p.config.report.frames_per_second;
+      std::printf(" %11.3f %7.2f%% %9.3f", s.at("l2.bytes.in").get<double>() * fps / 1e9,
+                  100.0 * s.at("l2.miss_rate").get<double>(),
+                  s.at("dram.bytes.total").get<double>() * fps / 1e9);
+    }
     if (timed)
       std::printf(" %12llu %9.2f %8.1f", s.at("sim.cycles").get<unsigned long long>(),
                   s.at("dram.gbytes_per_second").get<double>(),
@@ -60,7 +81,9 @@ void print_summary(const RunOptions& opts, const std::string& out_dir, const Pre
   std::printf("  simulated in %.3f s per layout (%.2f Mrays/s of wall time, %s tier, --threads %d)%s\n",
               secs, f.rays_total() / std::max(secs, 1e-9) / 1e6, p.config.sim.tier.c_str(),
               parallel_threads(),
-              timed ? "; node GB/s at the frame rate, DRAM GB/s and Mrays/s at the unit's clock" : "");
+              timed ? "; node GB/s at the frame rate, DRAM GB/s and Mrays/s at the unit's clock"
+              : l2  ? "; GB/s at the frame rate, node columns after the L2, L1->L2 and DRAM all streams"
+                    : "");
 }
 
 }  // namespace

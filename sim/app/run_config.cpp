@@ -97,7 +97,7 @@ RunConfig load_run_config(const std::string& path, const std::vector<std::string
   for (const char* key :
        {"scene.path", "scene.camera", "layout.kind", "camera.eye", "camera.target", "camera.up",
         "camera.vfov", "functional.rays_in_flight", "functional.timed", "sample.rate",
-        "sample.target_ci"})
+        "sample.target_ci", "chip.units", "l2.enable"})
     c.origins[key] = r.where(key);
 
   // [camera]: an explicit pinhole camera (all of eye, target; up and vfov default), or
@@ -132,6 +132,7 @@ RunConfig load_run_config(const std::string& path, const std::vector<std::string
   c.layout.kinds = read_layout_kinds(r);
   c.l1 = read_node_l1_config(r);
   c.dcache = read_dcache_config(r);
+  c.chip = read_chip_params(r);
 
   // [sim], [report]: the tier; the cycle tier's keys are read whatever the tier, so they are
   // validated and in the effective config.
@@ -182,7 +183,20 @@ RunConfig load_run_config(const std::string& path, const std::vector<std::string
   }
 
   c.sample = read_sample_params(r, c.tracer.order);
-
+  // The chip (several units, or an L2) is modelled by the plain functional tier so far.
+  if (!c.chip.single_unit()) {
+    const std::string chip_key = c.chip.units > 1 ? "chip.units" : "l2.enable";
+    const auto refuse = [&](const std::string& key, const std::string& what) {
+      r.fail(KeyError({chip_key, key}, "a chip of several units or with an L2 runs in the "
+                                       "plain functional tier only so far, not " + what));
+    };
+    if (c.sim.tier != "functional") refuse("sim.tier", "sim.tier = \"" + c.sim.tier + "\"");
+    if (c.functional.rays_in_flight > 1)
+      refuse("functional.rays_in_flight", "with functional.rays_in_flight > 1");
+    if (c.functional.timed) refuse("functional.timed", "in the timed mode");
+    if (c.sample.rate < 1.0) refuse("sample.rate", "sampled");
+    if (c.sample.target_ci > 0.0) refuse("sample.target_ci", "sampled");
+  }
   r.reject_unknown_keys();
   c.effective = r.effective();
   return c;

@@ -10,6 +10,7 @@
 #include <toml++/toml.h>
 
 #include "cache/fetch_cache.h"
+#include "chip/chip_params.h"
 #include "kdtree/kd_tree.h"
 #include "mem/dram/dram_params.h"
 #include "mem/l1_params.h"
@@ -54,7 +55,7 @@ struct RunConfig {
   std::string origin;  // the config file
   // Where the values that later checks name came from (ConfigReader::where): "scene.path",
   // "scene.camera", "layout.kind", each camera.* key, and the keys trace refuses
-  // (functional.rays_in_flight, functional.timed, sample.rate, sample.target_ci).
+  // (functional.rays_in_flight, functional.timed, sample.rate, sample.target_ci, chip.units, l2.enable).
   std::map<std::string, std::string> origins;
   SceneParams scene;
   std::optional<CameraDesc> camera;  // camera.eye/target/up/vfov, when given
@@ -65,6 +66,7 @@ struct RunConfig {
   LayoutParams layout;
   L1Config l1;      // l1.*: the node L1 (model rtl with sim.tier = rtl)
   L1Config dcache;  // dcache.*: lists and triangles (enable = false: straight to DRAM)
+  ChipParams chip;  // chip.*, l2.*: the units (each with l1 and dcache) and the shared L2
   UnitParams unit;  // sim.rays_in_flight/step_cycles/stack_depth, isect.*
   DramParams dram;  // dram.*
   SimParams sim;
@@ -73,7 +75,7 @@ struct RunConfig {
   SampleParams sample;          // sample.*: sampled simulation
   toml::table effective;  // every key with the value used
 
-  // The functional tier's caches.
+  // The functional tier's caches (each unit's, on a chip).
   FetchCacheParams fetch_caches() const;
   // The cycle tier's params (derived; validated when the config was read).
   CycleParams cycle() const;

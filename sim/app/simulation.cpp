@@ -146,7 +146,8 @@ SimulationResult simulate(const Prepared& p) {
     run.kind = image.layout;
     add_image_stats(image, run.stats);
     // The tier's params for this layout: one VCD per layout when there are several.
-    TierConfig tier_config{caches, p.config.functional, cycle, static_cast<uint32_t>(w * h)};
+    TierConfig tier_config{caches, p.config.functional, cycle, static_cast<uint32_t>(w * h),
+                           static_cast<uint32_t>(w), p.config.chip};
     if (!cycle.vcd_path.empty() && p.images.size() > 1)
       tier_config.cycle.vcd_path = layout_vcd_path(cycle.vcd_path, image.layout);
     const std::unique_ptr<TierRun> tier = make_tier(p.config.sim.tier, image, tier_config);
@@ -156,6 +157,7 @@ SimulationResult simulate(const Prepared& p) {
     } else {
       runs[i].frame = render_timed(p, tier->backend(), image.layout, !concurrent, runs[i].seconds);
     }
+    tier->end_frame();
     tier->write_stats(run.stats);
     run.pixel_dram_bytes = tier->pixel_dram_bytes();
     tier->finish();

@@ -439,8 +439,8 @@ SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string
       throw point_error("layout.kind: a point has one layout (sweep layout.kind instead)", true);
     pt.caches = c.fetch_caches();
     pt.layout = c.layout.kinds.front();
-    pt.alone =
-        c.sim.tier != FunctionalTier::kName || c.sample.active() || c.functional.interleaved();
+    pt.alone = c.sim.tier != FunctionalTier::kName || c.sample.active() ||
+               c.functional.interleaved() || !c.chip.single_unit();
     if (pt.alone) {
       pt.job = plan.jobs.size();
       plan.jobs.push_back(SweepJob{{index}, true});

@@ -1,4 +1,5 @@
-// `rtusim trace`: the node-fetch address stream of one layout, as a din or bin trace file.
+// `rtusim trace`: the node-fetch address stream of one layout (or, with --level l2, the shared
+// L2's input), as a din or bin trace file.
 #include <cstdio>
 #include <sstream>
 
@@ -15,6 +16,11 @@ int trace_command(const TraceOptions& opts) {
   const TraceFormat format = opts.format == "bin"         ? TraceFormat::kBin
                              : opts.format == "din-sized" ? TraceFormat::kDinSized
                                                           : TraceFormat::kDin;
+  const bool l2_level = opts.level == "l2";
+  if (l2_level && format != TraceFormat::kDin)
+    throw InputError("--format " + opts.format +
+                     ": --level l2 writes din only (the L2 takes lines and bursts of several "
+                     "sizes)");
   OutputFile file(opts.out);  // checks the directory before any work
   {
     // The layout check before the scene is loaded and the tree built.
@@ -37,6 +43,11 @@ int trace_command(const TraceOptions& opts) {
     if (c.functional.rays_in_flight > 1)
       refuse("functional.rays_in_flight", std::to_string(c.functional.rays_in_flight));
     if (c.functional.timed) refuse("functional.timed", "true");
+    if (c.chip.units > 1 && !l2_level) refuse("chip.units", std::to_string(c.chip.units));
+    if (l2_level && !c.chip.l2)
+      throw InputError(c.origins.at("l2.enable") +
+                       ": l2.enable: false: --level l2 records the shared L2's input; set "
+                       "l2.enable = true");
     const auto text = [](double v) {
       std::ostringstream os;
       os << v;
@@ -49,11 +60,15 @@ int trace_command(const TraceOptions& opts) {
   const MemoryImage& image = p.images.front();
   TraceWriter writer(file.temp_path(), format, image.layout, image.node_bytes, image_hash(image),
                      file.name());
-  write_node_stream(p, image, writer);
+  if (l2_level)
+    write_l2_stream(p, image, writer);
+  else
+    write_node_stream(p, image, writer);
   writer.finish();
   file.commit();
-  std::printf("trace: %llu node fetches, layout %s, %dx%d, %s, checksum %s -> %s\n",
-              static_cast<unsigned long long>(writer.digest().count), image.layout.c_str(),
+  std::printf("trace: %llu %s, layout %s, %dx%d, %s, checksum %s -> %s\n",
+              static_cast<unsigned long long>(writer.digest().count),
+              l2_level ? "L2 requests" : "node fetches", image.layout.c_str(),
               p.config.image.width, p.config.image.height, opts.format.c_str(),
               hex64(writer.digest().checksum).c_str(), opts.out.c_str());
   return 0;

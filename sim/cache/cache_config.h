@@ -1,19 +1,34 @@
-// The config keys of the cache model, declared in cache_config.cpp (`rtusim keys` lists them):
-//   l1.size, l1.assoc, l1.line (bytes), l1.policy, l1.seed      the node L1's geometry
-//   dcache.enable (false = lists and triangles straight to DRAM), dcache.size/assoc/line/policy/seed
+// The geometry keys of one cache level, declared by the part that owns the level under its own
+// prefix (the node L1 and data cache in mem/l1_params.cpp, the L2 in chip/chip_params.cpp):
+//   PREFIX.size, PREFIX.assoc (int or "full"), PREFIX.line (bytes), PREFIX.policy, PREFIX.seed
+// `rtusim keys` lists every level's keys.
 #pragma once
 #include <string>
 
 #include "cache/cache_params.h"
 #include "config/config_reader.h"
+#include "config/param.h"
 
 namespace rtusim {
 
-// Reads `prefix`.size/.assoc/.line/.policy/.seed, `prefix` "l1" or "dcache", and validates them
-// together; an error names the key and the `--set` or file line it came from.
-CacheParams read_cache_params(ConfigReader& r, const std::string& prefix);
+class CacheLevelKeys {
+ public:
+  // Declares PREFIX.* with `what` in their descriptions ("node L1") and `defaults`.
+  CacheLevelKeys(const std::string& prefix, const std::string& what,
+                 const CacheParams& defaults = {});
 
-// dcache.enable.
-bool read_dcache_enable(ConfigReader& r);
+  // Reads the level's keys and validates them together; an error names the key and the
+  // `--set` or file line it came from.
+  CacheParams read(ConfigReader& r) const;
+  const std::string& prefix() const { return prefix_; }
+
+ private:
+  std::string prefix_;
+  IntParam size_;
+  IntOrWordParam assoc_;
+  IntParam line_;
+  StringParam policy_;
+  IntParam seed_;
+};
 
 }  // namespace rtusim

@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "cache/cache_params.h"
 #include "cache/set_assoc_cache.h"
@@ -52,6 +53,16 @@ struct StreamCounters {
   }
 };
 
+// A request that a unit's private caches send to the next level (the chip's shared L2): a missed
+// line of a cache, or a DRAM burst of a stream that goes straight past them.
+struct NextLevelRequest {
+  uint64_t ordinal;  // the unit's fetches so far, this one's included: the chip's turn order
+  uint64_t addr;     // first byte, aligned to `bytes`
+  uint32_t bytes;    // the line or the burst
+  uint32_t pixel;    // of the ray that made it (set by the chip when the ray ends)
+  Stream stream;
+};
+
 class FetchCache {
  public:
   static constexpr int kStreams = 3;
@@ -73,8 +84,8 @@ class FetchCache {
     StreamCounters& c = counters_[static_cast<int>(s)];
     ++c.fetches;
     if (bytes == 0) return 0;
-    if (s == Stream::kNode) return count(c, node_l1_, addr, bytes);
-    if (data_cache_) return count(c, *data_cache_, addr, bytes);
+    if (s == Stream::kNode) return count(s, c, node_l1_, addr, bytes);
+    if (data_cache_) return count(s, c, *data_cache_, addr, bytes);
     return count_to_dram(c, addr, bytes);
   }
   // fetch() of `bytes` (> 0) on a list or triangle stream when there is no data cache
@@ -118,6 +129,14 @@ class FetchCache {
     counters_[static_cast<int>(s)].dram_bytes -= bytes;
   }
 
+  // From now on every request to the next level (each counted in dram_bytes) is also appended
+  // to `log` (nullptr: none). The log outlives the cache or is reset before it ends.
+  void log_next_level(std::vector<NextLevelRequest>* log) { log_ = log; }
+  // Fetches so far, all streams.
+  uint64_t fetches() const {
+    return counters_[0].fetches + counters_[1].fetches + counters_[2].fetches;
+  }
+
   const StreamCounters& stream(Stream s) const { return counters_[static_cast<int>(s)]; }
   uint64_t dram_bytes_total() const { return dram_bytes_total(counters_); }
   static uint64_t dram_bytes_total(const Counters& c) {
@@ -152,7 +171,7 @@ class FetchCache {
       if (s != Stream::kNode) return caches.fetch(s, addr, bytes);
       StreamCounters& c = caches.counters_[static_cast<int>(Stream::kNode)];
       ++c.fetches;
-      return bytes != 0 ? count_in(c, node_l1, addr, bytes) : 0;
+      return bytes != 0 ? caches.count_in(Stream::kNode, c, node_l1, addr, bytes) : 0;
     }
     uint64_t fetch_to_dram(Stream s, uint64_t addr, uint32_t bytes) {
       return caches.fetch_to_dram(s, addr, bytes);
@@ -168,8 +187,11 @@ class FetchCache {
         return 0;
       }
       ++c.misses;
-      c.dram_bytes += node_l1.params().line_bytes;
-      return node_l1.params().line_bytes;
+      const uint32_t line_bytes = node_l1.params().line_bytes;
+      c.dram_bytes += line_bytes;
+      if (caches.log_) [[unlikely]]
+        caches.log_request(Stream::kNode, addr & ~uint64_t{line_bytes - 1}, line_bytes);
+      return line_bytes;
     }
   };
 
@@ -180,34 +202,60 @@ class FetchCache {
     c.dram_bytes += bursts * burst_bytes_;
   }
   // Counts one fetch of `bytes` (> 0) at `addr` read straight from DRAM; returns its DRAM bytes.
-  uint64_t count_to_dram(StreamCounters& c, uint64_t addr, uint32_t bytes) const {
+  uint64_t count_to_dram(StreamCounters& c, uint64_t addr, uint32_t bytes) {
     const uint64_t bursts = dram_bursts(addr, bytes, burst_bytes_);
     add_dram_bursts(c, bursts);
+    if (log_) [[unlikely]] {
+      const uint64_t first = addr / burst_bytes_ * burst_bytes_;
+      const Stream s = static_cast<Stream>(&c - counters_.data());
+      for (uint64_t b = 0; b < bursts; ++b) log_request(s, first + b * burst_bytes_, burst_bytes_);
+    }
     return bursts * burst_bytes_;
   }
 
-  // Counts one fetch of `bytes` at `addr` through a concrete cache; returns its DRAM bytes.
+  // Counts one fetch of `bytes` at `addr` on stream `s` (counters `c`) through a concrete
+  // cache; returns its DRAM bytes.
   template <class Concrete>
-  static uint64_t count_in(StreamCounters& c, Concrete& cache, uint64_t addr, uint32_t bytes) {
-    const uint64_t accesses_before = cache.accesses();
-    const uint32_t missed = cache.access_range(addr, bytes);
-    const uint64_t accessed = cache.accesses() - accesses_before;
+  uint64_t count_in(Stream s, StreamCounters& c, Concrete& cache, uint64_t addr, uint32_t bytes) {
+    const uint32_t line_bytes = cache.params().line_bytes;
+    uint64_t accessed;
+    uint32_t missed = 0;
+    if (log_) [[unlikely]] {
+      // Line by line, as access_range() does, to name the lines missed.
+      const uint64_t first = addr / line_bytes, last = (addr + bytes - 1) / line_bytes;
+      for (uint64_t line = first; line <= last; ++line)
+        if (!cache.access(line * line_bytes)) {
+          ++missed;
+          log_request(s, line * line_bytes, line_bytes);
+        }
+      accessed = last - first + 1;
+    } else {
+      const uint64_t accesses_before = cache.accesses();
+      missed = cache.access_range(addr, bytes);
+      accessed = cache.accesses() - accesses_before;
+    }
     c.accesses += accessed;
     c.hits += accessed - missed;
     c.misses += missed;
-    c.dram_bytes += uint64_t{missed} * cache.params().line_bytes;
-    return uint64_t{missed} * cache.params().line_bytes;
+    c.dram_bytes += uint64_t{missed} * line_bytes;
+    return uint64_t{missed} * line_bytes;
   }
 
-  static uint64_t count(StreamCounters& c, SetAssocCache& cache, uint64_t addr, uint32_t bytes) {
+  uint64_t count(Stream s, StreamCounters& c, SetAssocCache& cache, uint64_t addr,
+                 uint32_t bytes) {
     // One dispatch.
-    return cache.visit([&](auto& concrete) { return count_in(c, concrete, addr, bytes); });
+    return cache.visit([&](auto& concrete) { return count_in(s, c, concrete, addr, bytes); });
+  }
+
+  void log_request(Stream s, uint64_t addr, uint32_t bytes) {
+    log_->push_back({fetches(), addr, bytes, 0, s});
   }
 
   SetAssocCache node_l1_;
   std::optional<SetAssocCache> data_cache_;
   uint32_t burst_bytes_ = FetchCacheParams{}.dram_burst_bytes;  // set from the params
   Counters counters_{};
+  std::vector<NextLevelRequest>* log_ = nullptr;  // log_next_level()
 };
 
 // Stats key stem of a stream: "nodes", "lists", "triangles".

@@ -9,6 +9,10 @@ namespace rtusim {
 namespace {
 
 const L1Params kDefaults;
+const CacheLevelKeys kL1Keys("l1", "node L1");
+const CacheLevelKeys kDcacheKeys("dcache", "list/triangle cache");
+const BoolParam kDcacheEnable("dcache.enable", false,
+                              "list/triangle cache on (false: lists and triangles straight to DRAM)");
 const IntParam kL1HitCycles("l1.hit_cycles", kDefaults.hit_cycles, 1, 1 << 20, "cycles",
                             "node L1 hit latency (l1.model = rtl: 2)");
 const IntParam kL1Mshrs("l1.mshrs", kDefaults.mshrs, 1, 4096, "",
@@ -34,9 +38,11 @@ void validate_timing(const L1Params& p, const std::string& prefix) {
   if (p.clock_period_ps == 0) throw KeyError("sim.clock_mhz", "must be positive");
 }
 
+CacheParams read_node_l1_geometry(ConfigReader& r) { return kL1Keys.read(r); }
+
 L1Config read_node_l1_config(ConfigReader& r) {
   L1Config c;
-  c.params.cache = read_cache_params(r, "l1");
+  c.params.cache = kL1Keys.read(r);
   c.params.hit_cycles = static_cast<uint32_t>(kL1HitCycles.read(r));
   c.params.mshrs = static_cast<uint32_t>(kL1Mshrs.read(r));
   c.model = kL1Model.read(r);
@@ -45,8 +51,8 @@ L1Config read_node_l1_config(ConfigReader& r) {
 
 L1Config read_dcache_config(ConfigReader& r) {
   L1Config c;
-  c.enable = read_dcache_enable(r);
-  c.params.cache = read_cache_params(r, "dcache");
+  c.enable = kDcacheEnable.read(r);
+  c.params.cache = kDcacheKeys.read(r);
   c.params.hit_cycles = static_cast<uint32_t>(kDcacheHitCycles.read(r));
   c.params.mshrs = static_cast<uint32_t>(kDcacheMshrs.read(r));
   return c;

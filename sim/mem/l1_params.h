@@ -30,6 +30,8 @@ void validate(const L1Params& p, const std::string& prefix);
 // The timing part only (the geometry is checked when read): hit_cycles, mshrs, the clock.
 void validate_timing(const L1Params& p, const std::string& prefix);
 
+// Reads the node L1's geometry keys (l1.size/assoc/line/policy/seed), validated.
+CacheParams read_node_l1_geometry(ConfigReader& r);
 // Reads the node L1's keys (l1.*), validated.
 L1Config read_node_l1_config(ConfigReader& r);
 // Reads the data cache's keys (dcache.*), validated; enable = dcache.enable.

@@ -36,17 +36,74 @@ FunctionalParams read_functional_params(ConfigReader& r) {
   return p;
 }
 
-void FunctionalTier::write_stats(Stats& stats) const {
-  const FetchCache& c = backend_.caches();
-  write_stats(c.counters(), c.data_cache() != nullptr, stats);
-  if (backend_.rays_in_flight() > 1 || backend_.timed())
-    stats.set("functional.rays_in_flight", backend_.rays_in_flight());
-  if (backend_.timed()) {
-    stats.set("functional.timed", true);
-    if (backend_.timed()->segments() > 1)
-      stats.set("functional.timed_segments", backend_.timed()->segments());
-    backend_.timed()->write_stats(stats);
+FunctionalTier::FunctionalTier(const MemoryImage& image, const TierConfig& config) {
+  if (!config.chip.single_unit()) {
+    chip_ = std::make_unique<ChipFunctionalBackend>(image, config.caches, config.chip,
+                                                    config.width, config.pixels);
+    return;
   }
+  backend_ = std::make_unique<FunctionalBackend>(
+      image, config.caches, config.pixels, config.functional.rays_in_flight,
+      config.functional.timed ? &config.cycle : nullptr, config.functional.timed_segments,
+      config.functional.timed_warmup_rays);
+}
+
+void FunctionalTier::write_stats(Stats& stats) const {
+  if (chip_) return write_chip_stats(chip_->chip(), stats);
+  const FunctionalBackend& b = *backend_;
+  const FetchCache& c = b.caches();
+  write_stats(c.counters(), c.data_cache() != nullptr, stats);
+  if (b.rays_in_flight() > 1 || b.timed())
+    stats.set("functional.rays_in_flight", b.rays_in_flight());
+  if (b.timed()) {
+    stats.set("functional.timed", true);
+    if (b.timed()->segments() > 1) stats.set("functional.timed_segments", b.timed()->segments());
+    b.timed()->write_stats(stats);
+  }
+}
+
+void FunctionalTier::write_chip_stats(const ChipCaches& chip, Stats& stats) const {
+  const bool data_cache_on = chip.unit(0).data_cache() != nullptr;
+  // The units' sums under the one-unit keys; with an L2 their DRAM bytes are the L2's input.
+  write_stats(chip.total_counters(), data_cache_on, stats);
+  stats.set("chip.units", chip.units());
+  for (uint32_t u = 0; u < chip.units(); ++u) {
+    const std::string prefix = "units." + std::to_string(u) + ".";
+    Stats unit;
+    write_stats(chip.unit(u).counters(), data_cache_on, unit);
+    for (const auto& [key, value] : unit.values())
+      if (!chip.has_l2() || !key.starts_with("dram.")) stats.set(prefix + key, value);
+    stats.set(prefix + "rays", chip.rays(u));
+    if (chip.has_l2()) {
+      const ChipCaches::L2Counters& l2 = chip.l2_unit(u);
+      stats.set(prefix + "l2.accesses", l2.accesses);
+      stats.set(prefix + "l2.hits", l2.hits);
+      stats.set(prefix + "l2.misses", l2.misses);
+      stats.set(prefix + "l2.bytes.in", l2.bytes_in);
+      stats.set(prefix + "dram.bytes.total", l2.dram_bytes);
+    }
+  }
+  if (!chip.has_l2()) return;
+  // The L2: its input per stream, and DRAM's bytes are what it read.
+  ChipCaches::L2Counters all;
+  uint64_t dram_total = 0;
+  for (int s = 0; s < FetchCache::kStreams; ++s) {
+    const ChipCaches::L2Counters& c = chip.l2_streams()[s];
+    all.accesses += c.accesses;
+    all.hits += c.hits;
+    all.misses += c.misses;
+    all.bytes_in += c.bytes_in;
+    const std::string stem = stream_stats_name(static_cast<Stream>(s));
+    stats.set("l2.bytes.in." + stem, c.bytes_in);
+    stats.set("dram.bytes." + stem, c.dram_bytes);
+    dram_total += c.dram_bytes;
+  }
+  stats.set("dram.bytes.total", dram_total);
+  stats.set("l2.accesses", all.accesses);
+  stats.set("l2.hits", all.hits);
+  stats.set("l2.misses", all.misses);
+  stats.set("l2.bytes.in", all.bytes_in);
+  stats.set("l2.miss_rate", all.accesses ? double(all.misses) / double(all.accesses) : 0.0);
 }
 
 void FunctionalTier::write_stats(const FetchCache::Counters& counters, bool data_cache_on,

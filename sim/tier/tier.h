@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "cache/fetch_cache.h"
+#include "chip/chip_params.h"
 #include "layout/memory_image.h"
 #include "model/cycle_params.h"
 #include "tier/functional_params.h"
@@ -21,10 +22,12 @@ class Stats;
 
 // What a tier is made from: every tier's params (each uses its own).
 struct TierConfig {
-  FetchCacheParams caches;      // functional: the behavioural caches
+  FetchCacheParams caches;      // functional: the behavioural caches (each unit's)
   FunctionalParams functional;  // functional: rays in flight (interleaved mode)
   CycleParams cycle;        // cycle, rtl: the SystemC top (derived, validated)
   uint32_t pixels = 0;      // image width x height
+  uint32_t width = 0;       // image width
+  ChipParams chip;          // the units and the shared L2 (functional so far)
 };
 
 class TierRun {
@@ -36,6 +39,9 @@ class TierRun {
   virtual void write_stats(Stats& stats) const = 0;
   // DRAM bytes of each pixel's ray tree; empty when the tier does not attribute them.
   virtual std::vector<uint64_t> pixel_dram_bytes() const { return {}; }
+  // The frame is over: settles what waits for its end (the chip's L2 takes the last requests).
+  // Before write_stats() and pixel_dram_bytes().
+  virtual void end_frame() {}
   // Completes the outputs of a run that went well (VCD files).
   virtual void finish() {}
 };
