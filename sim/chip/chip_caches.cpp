@@ -2,6 +2,9 @@
 #include "chip/chip_caches.h"
 
 #include <algorithm>
+#include <functional>
+#include <queue>
+#include <utility>
 #include <stdexcept>
 #include <string>
 
@@ -48,25 +51,28 @@ void ChipCaches::drain(bool all) {
       horizon = std::min(horizon, unit.ray_first < unit.pending.size()
                                       ? unit.pending[unit.ray_first].ordinal - 1
                                       : unit.caches.fetches());
+  // The units' next requests in turn order: a min-heap of (ordinal, unit).
+  using Turn = std::pair<uint64_t, uint32_t>;
+  std::priority_queue<Turn, std::vector<Turn>, std::greater<Turn>> turns;
+  const auto queue_next = [&](uint32_t u) {
+    const Unit& unit = units_[u];
+    if (unit.head < unit.pending.size() && unit.pending[unit.head].ordinal <= horizon)
+      turns.emplace(unit.pending[unit.head].ordinal, u);
+  };
+  for (uint32_t u = 0; u < units(); ++u) queue_next(u);
   l2_->visit([&](auto& l2) {
     const uint64_t line_bytes = l2.params().line_bytes;
-    for (;;) {
-      // The next request in turn order: lowest ordinal, then lowest unit.
-      Unit* next = nullptr;
-      for (Unit& unit : units_) {
-        if (unit.head == unit.pending.size()) continue;
-        const uint64_t ordinal = unit.pending[unit.head].ordinal;
-        if (ordinal <= horizon && (!next || ordinal < next->pending[next->head].ordinal))
-          next = &unit;
-      }
-      if (!next) break;
-      const NextLevelRequest& r = next->pending[next->head++];
+    while (!turns.empty()) {
+      const uint32_t u = turns.top().second;
+      turns.pop();
+      Unit& unit = units_[u];
+      const NextLevelRequest& r = unit.pending[unit.head++];
       if (l2_observer_) l2_observer_(r);
       const uint64_t accesses_before = l2.accesses();
       const uint64_t missed = l2.access_range(r.addr, r.bytes);
       const uint64_t accessed = l2.accesses() - accesses_before;
       const uint64_t dram_bytes = missed * line_bytes;
-      for (L2Counters* c : {&l2_streams_[static_cast<int>(r.stream)], &next->l2}) {
+      for (L2Counters* c : {&l2_streams_[static_cast<int>(r.stream)], &unit.l2}) {
         c->accesses += accessed;
         c->hits += accessed - missed;
         c->misses += missed;
@@ -74,6 +80,7 @@ void ChipCaches::drain(bool all) {
         c->dram_bytes += dram_bytes;
       }
       charge(r.pixel, dram_bytes);
+      queue_next(u);
     }
   });
   // Sent requests leave the logs (the current rays' stay, to be given their pixel).
