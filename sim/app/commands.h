@@ -34,6 +34,7 @@ struct RegressOptions {
 
 struct KeysOptions {
   std::string format = "text";  // --format text|json|markdown (the README's table)
+  bool stats = false;           // --stats: the stats keys instead of the config keys
 };
 
 int run_command(const RunOptions& opts);

@@ -10,6 +10,7 @@
 #include "app/commands.h"
 #include "config/param.h"
 #include "util/error.h"
+#include "util/stat_decl.h"
 
 namespace rtusim {
 namespace {
@@ -18,7 +19,7 @@ namespace {
 std::vector<const ParamInfo*> sorted_keys() {
   static const std::vector<std::string> kSections = {
       "scene", "camera", "image", "tracer", "kdtree", "layout", "l1",
-      "dcache", "sim", "isect", "dram", "sample", "report"};
+      "dcache", "chip", "l2", "sim", "isect", "dram", "sample", "report"};
   auto rank = [](const std::string& key) {
     const std::string section = key.substr(0, key.find('.'));
     const auto it = std::find(kSections.begin(), kSections.end(), section);
@@ -61,9 +62,57 @@ std::string markdown_cell(std::string s) {
   return s;
 }
 
+// The stats keys in declaration order sorted by key.
+std::vector<const StatInfo*> sorted_stats() {
+  std::vector<const StatInfo*> stats;
+  for (const StatDecl* d : declared_stats()) stats.push_back(&d->info());
+  std::sort(stats.begin(), stats.end(),
+            [](const StatInfo* a, const StatInfo* b) { return a->key < b->key; });
+  return stats;
+}
+
+// The forms of a declared key that stats.json may hold (util/stat_decl.h).
+const char* const kStatForms[][2] = {
+    {"layout.<kind>.KEY", "every layout's value when a run has several layouts"},
+    {"units.<i>.KEY", "unit i's value on a chip of several units (or with an L2)"},
+    {"KEY.ci95_low, KEY.ci95_high", "the 95% interval of a sampled run's estimate of a counter"},
+    {"sample.diff.<a>-<b>.KEY", "a sampled run's paired difference of a counter, layout a - b"},
+};
+
+int stats_keys(const std::string& format) {
+  const std::vector<const StatInfo*> stats = sorted_stats();
+  if (format == "json") {
+    nlohmann::ordered_json out = nlohmann::ordered_json::array();
+    for (const StatInfo* k : stats)
+      out.push_back({{"key", k->key}, {"kind", stat_kind_name(k->kind)}, {"unit", k->unit},
+                     {"description", k->description}});
+    std::cout << out.dump(2) << "\n";
+  } else if (format == "markdown") {
+    std::cout << "| key | kind | unit | description |\n|---|---|---|---|\n";
+    for (const StatInfo* k : stats)
+      std::cout << "| `" << k->key << "` | " << stat_kind_name(k->kind) << " | " << k->unit
+                << " | " << markdown_cell(k->description) << " |\n";
+    std::cout << "\nForms of a key KEY above: ";
+    for (size_t i = 0; i < std::size(kStatForms); ++i)
+      std::cout << (i ? "; " : "") << '`' << kStatForms[i][0] << "`: " << kStatForms[i][1];
+    std::cout << ". `<stream>` is nodes, lists or triangles; `<level>` l1, dcache or l2.\n";
+  } else if (format == "text") {
+    for (const StatInfo* k : stats) {
+      std::printf("%-34s %-8s %s\n", k->key.c_str(), stat_kind_name(k->kind), k->unit.c_str());
+      std::printf("%36s%s\n", "", k->description.c_str());
+    }
+    std::printf("\nforms of a key KEY above:\n");
+    for (const auto& form : kStatForms) std::printf("  %-32s %s\n", form[0], form[1]);
+  } else {
+    throw InputError("keys --format " + format + ": expected text, json or markdown");
+  }
+  return 0;
+}
+
 }  // namespace
 
 int keys_command(const KeysOptions& opts) {
+  if (opts.stats) return stats_keys(opts.format);
   const std::vector<const ParamInfo*> keys = sorted_keys();
   if (opts.format == "json") {
     nlohmann::ordered_json out = nlohmann::ordered_json::array();

@@ -65,9 +65,12 @@ int main(int argc, char** argv) {
 
   auto* sweep = add_sweep_subcommand(app);
   KeysOptions keys_opts;
-  auto* keys = app.add_subcommand("keys", "List every config key: type, default, range, unit");
+  auto* keys =
+      app.add_subcommand("keys", "List every config key (or, with --stats, every stats key)");
   keys->add_option("--format", keys_opts.format, "text (default), json, or markdown (README table)")
       ->check(CLI::IsMember({"text", "json", "markdown"}));
+  keys->add_flag("--stats", keys_opts.stats,
+                 "List the stats.json keys instead: kind, unit, description");
 
   // An unknown first word is named as such (CLI11 would only say a subcommand is required).
   if (argc > 1 && argv[1][0] != '-') {

@@ -19,6 +19,7 @@
 #include "trace/trace_format.h"
 #include "util/error.h"
 #include "util/output_files.h"
+#include "util/stat_decl.h"
 #include "util/stats.h"
 
 #ifndef RTUSIM_SOURCE_DIR

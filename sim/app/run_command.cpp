@@ -11,8 +11,15 @@
 #include "image/png_writer.h"
 #include "tracer/parallel_render.h"
 #include "util/output_files.h"
+#include "util/stat_decl.h"
 
 namespace rtusim {
+namespace {
+// Stats keys of `rtusim run` itself.
+const StatDecl kRunSeconds("run.seconds", StatKind::kTiming, "s",
+                           "wall time of the whole run");
+}  // namespace
+
 namespace {
 
 void print_summary(const RunOptions& opts, const std::string& out_dir, const Prepared& p,

@@ -14,8 +14,77 @@
 #include "tier/tier.h"
 #include "tracer/parallel_render.h"
 #include "util/child_processes.h"
+#include "util/stat_decl.h"
 
 namespace rtusim {
+namespace {
+// Stats keys of the run: scene, tree, rays, the layout's image and the report figures.
+const StatDecl kSceneTriangles("scene.triangles", StatKind::kProperty, "triangles",
+                               "triangles of the scene");
+const StatDecl kSceneMaterials("scene.materials", StatKind::kProperty, "materials",
+                               "materials of the scene");
+const StatDecl kSceneLights("scene.lights", StatKind::kProperty, "lights",
+                            "lights of the scene");
+const StatDecl kSceneBytes("scene.bytes", StatKind::kProperty, "bytes",
+                           "bytes of the scene's geometry as loaded");
+const StatDecl kSceneLoadSeconds("scene.load_seconds", StatKind::kTiming, "s",
+                                 "wall time to load the scene");
+const StatDecl kTreeNodes("tree.nodes", StatKind::kProperty, "nodes",
+                          "kd-tree nodes");
+const StatDecl kTreeLeaves("tree.leaves", StatKind::kProperty, "nodes",
+                           "kd-tree leaves");
+const StatDecl kTreeEmptyLeaves("tree.empty_leaves", StatKind::kProperty, "nodes",
+                                "leaves without a triangle");
+const StatDecl kTreeMaxDepth("tree.max_depth", StatKind::kProperty, "levels",
+                             "deepest leaf");
+const StatDecl kTreeMeanLeafDepth("tree.mean_leaf_depth", StatKind::kProperty, "levels",
+                                  "mean depth of a leaf");
+const StatDecl kTreeRefs("tree.refs_per_triangle", StatKind::kProperty, "",
+                         "triangle references per triangle");
+const StatDecl kTreeSah("tree.sah_cost", StatKind::kProperty, "",
+                        "SAH cost of the tree");
+const StatDecl kTreeBuildSeconds("tree.build_seconds", StatKind::kTiming, "s",
+                                 "wall time to build the tree");
+const StatDecl kTreePeakBytes("tree.build_peak_bytes", StatKind::kProperty, "bytes",
+                              "peak memory of the build");
+const StatDecl kTreeBytes("tree.bytes", StatKind::kProperty, "bytes",
+                          "bytes of the layout's nodes (mem.nodes.bytes)");
+const StatDecl kRaysTotal("rays.total", StatKind::kCounter, "rays",
+                          "rays traced");
+const StatDecl kRaysPrimary("rays.primary", StatKind::kCounter, "rays",
+                            "primary rays");
+const StatDecl kRaysShadow("rays.shadow", StatKind::kCounter, "rays",
+                           "shadow rays");
+const StatDecl kRaysReflection("rays.reflection", StatKind::kCounter, "rays",
+                               "mirror reflection rays");
+const StatDecl kRaysRefraction("rays.refraction", StatKind::kCounter, "rays",
+                               "refraction rays");
+const StatDecl kSimTier("sim.tier", StatKind::kProperty, "",
+                        "the fidelity tier");
+const StatDecl kFramesPerSecond("report.frames_per_second", StatKind::kProperty, "frames/s",
+                                "frame rate of the GB/s figures");
+const StatDecl kLayoutKind("layout.kind", StatKind::kProperty, "",
+                           "the layout");
+const StatDecl kRegionBytes("mem.<stream>.bytes", StatKind::kProperty, "bytes",
+                            "bytes of the memory image's region");
+const StatDecl kImageBytes("mem.image.bytes", StatKind::kProperty, "bytes",
+                           "bytes of the whole memory image");
+const StatDecl kL1MissRate("l1.miss_rate", StatKind::kRatio, "",
+                           "l1.misses / l1.accesses");
+const StatDecl kNodeBytesPerRay("report.node_dram_bytes_per_ray", StatKind::kRatio, "bytes/ray",
+                                "dram.bytes.nodes / rays.total");
+const StatDecl kDramBytesPerFrame("report.dram_bytes_per_frame", StatKind::kRatio, "bytes/frame",
+                                  "DRAM bytes per frame (dram.bytes.total)");
+const StatDecl kNodeGbps("report.node_gbytes_per_second", StatKind::kRatio, "GB/s",
+                         "node DRAM bytes at report.frames_per_second");
+const StatDecl kDramGbpsReport("report.dram_gbytes_per_second", StatKind::kRatio, "GB/s",
+                               "DRAM bytes at report.frames_per_second");
+const StatDecl kTraceSeconds("trace.seconds", StatKind::kTiming, "s",
+                             "wall time to trace the frame through the tier");
+const StatDecl kTraceRaysPerSecond("trace.rays_per_second", StatKind::kTiming, "rays/s",
+                                   "rays per second of wall time");
+}  // namespace
+
 
 void add_run_stats(const Prepared& p, const FrameResult& frame, Stats& s) {
   const KdTreeReport& r = p.tree.report;

@@ -11,6 +11,7 @@
 #include "sweep/sweep_backend.h"
 #include "tier/functional_tier.h"
 #include "tracer/whitted_tracer.h"
+#include "util/stat_decl.h"
 #include "util/stats.h"
 
 namespace rtusim {

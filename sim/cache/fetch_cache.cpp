@@ -1,8 +1,32 @@
 #include "cache/fetch_cache.h"
 
+#include "util/stat_decl.h"
 #include "util/stats.h"
 
 namespace rtusim {
+namespace {
+// Stats keys of the cache levels and the fetch streams (written here, and by every tier).
+const StatDecl kLevelAccesses("<level>.accesses", StatKind::kCounter, "lines",
+                              "line accesses of the level (l1: node L1, dcache: list/triangle "
+                              "cache, l2: shared L2; a fetch across a line boundary is two)");
+const StatDecl kLevelHits("<level>.hits", StatKind::kCounter, "lines",
+                          "line accesses of the level that hit");
+const StatDecl kLevelMisses("<level>.misses", StatKind::kCounter, "lines",
+                            "line accesses of the level that missed (merged misses included)");
+const StatDecl kStreamFetches("fetch.<stream>.fetches", StatKind::kCounter, "fetches",
+                              "fetches of the stream by the traversal");
+const StatDecl kStreamAccesses("fetch.<stream>.accesses", StatKind::kCounter, "lines",
+                               "line accesses of the stream at its first cache (DRAM bursts when "
+                               "it goes straight past)");
+const StatDecl kStreamHits("fetch.<stream>.hits", StatKind::kCounter, "lines",
+                           "the stream's line accesses that hit");
+const StatDecl kStreamMisses("fetch.<stream>.misses", StatKind::kCounter, "lines",
+                             "the stream's line accesses that missed");
+const StatDecl kDramStreamBytes("dram.bytes.<stream>", StatKind::kCounter, "bytes",
+                                "bytes of the stream read from DRAM");
+const StatDecl kDramBytes("dram.bytes.total", StatKind::kCounter, "bytes",
+                          "bytes read from DRAM, all streams");
+}  // namespace
 
 namespace {
 

@@ -4,9 +4,23 @@
 
 #include "mem/l1_cache.h"
 #include "util/error.h"
+#include "util/stat_decl.h"
 #include "util/stats.h"
 
 namespace rtusim {
+namespace {
+// Stats keys of a timed cache level (the cycle tier's L1s), beside <level>.accesses/hits/misses.
+const StatDecl kPrimaryMisses("<level>.primary_misses", StatKind::kCounter, "lines",
+                              "misses that sent a read to the next level");
+const StatDecl kMergedMisses("<level>.merged_misses", StatKind::kCounter, "lines",
+                             "misses merged into a read of their line already outstanding (an "
+                             "MSHR)");
+const StatDecl kMshrStallCycles("<level>.mshr_stall_cycles", StatKind::kCounter, "cycles",
+                                "cycles a miss waited for a free MSHR");
+const StatDecl kMeanMissLatency("<level>.mean_miss_latency_cycles", StatKind::kRatio, "cycles",
+                                "mean cycles from a primary miss to its line");
+}  // namespace
+
 
 void NodeL1::write_stats(Stats& stats, const std::string& prefix) const {
   stats.set(prefix + ".accesses", accesses());

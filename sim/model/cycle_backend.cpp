@@ -9,10 +9,23 @@
 #include "mem/node_l1.h"
 #include "model/host_interface.h"
 #include "model/traversal_unit.h"
+#include "util/stat_decl.h"
 #include "util/stats.h"
 #include "util/vcd_writer.h"
 
 namespace rtusim {
+namespace {
+// Stats keys of the cycle tier's top.
+const StatDecl kCycles("sim.cycles", StatKind::kCounter, "cycles",
+                       "simulated cycles of the unit's clock");
+const StatDecl kRaysPerSecond("sim.rays_per_second", StatKind::kRatio, "rays/s",
+                              "rays per second of simulated time");
+const StatDecl kDramGbps("dram.gbytes_per_second", StatKind::kRatio, "GB/s",
+                         "DRAM bytes per second of simulated time");
+const StatDecl kUtilisation("unit.utilisation", StatKind::kRatio, "steps/cycle",
+                            "traversal steps per cycle");
+}  // namespace
+
 
 struct CycleBackend::Top : sc_core::sc_module {
   HostInterface host;

@@ -7,10 +7,30 @@
 #include "layout/layout_dispatch.h"
 #include "mem/l1_cache.h"
 #include "util/error.h"
+#include "util/stat_decl.h"
 #include "util/stats.h"
 #include "util/vcd_writer.h"
 
 namespace rtusim {
+namespace {
+// Stats keys of the SystemC traversal unit.
+const StatDecl kUnitRays("unit.rays", StatKind::kCounter, "rays",
+                         "rays the unit traversed");
+const StatDecl kUnitSteps("unit.steps", StatKind::kCounter, "steps",
+                          "traversal steps (node fetches)");
+const StatDecl kUnitLeafSteps("unit.leaf_steps", StatKind::kCounter, "steps",
+                              "steps at a leaf");
+const StatDecl kUnitIsectTests("unit.isect_tests", StatKind::kCounter, "tests",
+                               "ray-triangle tests");
+const StatDecl kUnitMaxStack("unit.max_stack_depth", StatKind::kRatio, "entries",
+                             "deepest traversal stack reached (a maximum)");
+const StatDecl kUnitOverflow("unit.stack_overflow_steps", StatKind::kCounter, "steps",
+                             "steps whose push overflowed the stack (sim.stack_depth)");
+const StatDecl kUnitEvents("unit.events", StatKind::kCounter, "events",
+                           "simulator effort: unit events processed");
+const StatDecl kUnitKernelWaits("unit.kernel_waits", StatKind::kCounter, "waits",
+                                "simulator effort: SystemC waits (memory-horizon syncs)");
+}  // namespace
 
 namespace {
 const UnitParams& checked(const UnitParams& p) {

@@ -4,6 +4,7 @@
 #include "config/param.h"
 #include "sample/sampled_frame.h"
 #include "util/error.h"
+#include "util/stat_decl.h"
 
 namespace rtusim {
 namespace {
@@ -61,9 +62,9 @@ SampleParams read_sample_params(ConfigReader& r, RayOrder order) {
   s.seed = static_cast<uint64_t>(kSeed.read(r));
   s.target_ci = kTargetCi.read(r);
   s.target_key = kTargetKey.read(r);
-  if (!s.target_key.empty() && !SampledFrame::is_extensive(s.target_key))
+  if (!s.target_key.empty() && !is_counter_key(s.target_key))
     r.fail(KeyError(kTargetKey.key(), "'" + s.target_key +
-                                          "' is not an extensive figure (e.g. dram.bytes.nodes, "
+                                          "' is not a counter (e.g. dram.bytes.nodes, "
                                           "sim.cycles)"));
   s.warmup_name = kWarmup.read(r);
   s.warmup = s.warmup_name == "none" ? SampleWarmup::kNone : SampleWarmup::kFunctional;

@@ -10,8 +10,53 @@
 #include "tracer/hit_backend.h"
 #include "tracer/parallel_render.h"
 #include "util/error.h"
+#include "util/stat_decl.h"
 
 namespace rtusim {
+namespace {
+// Stats keys of a sampled run (each counter also gets .ci95_low and .ci95_high).
+const StatDecl kAchievedCi("sample.achieved_ci", StatKind::kRatio, "",
+                           "relative 95% half-width of the target key");
+const StatDecl kAchievedCiKey("sample.achieved_ci_key", StatKind::kProperty, "",
+                              "the key sample.achieved_ci is of");
+const StatDecl kRaysSimulated("sample.rays_simulated", StatKind::kProperty, "rays",
+                              "rays traced in the sampled units");
+const StatDecl kRaysWarmed("sample.rays_warmed", StatKind::kProperty, "rays",
+                           "rays traced to warm the caches, unmeasured");
+const StatDecl kRaysSimulatedPerSecond("sample.rays_simulated_per_second", StatKind::kTiming,
+                                       "rays/s", "sampled rays per second of wall time");
+const StatDecl kMethod("sample.method", StatKind::kProperty, "",
+                       "sample.method");
+const StatDecl kRate("sample.rate", StatKind::kProperty, "",
+                     "sample.rate");
+const StatDecl kSeed("sample.seed", StatKind::kProperty, "",
+                     "sample.seed");
+const StatDecl kWarmup("sample.warmup", StatKind::kProperty, "",
+                       "sample.warmup");
+const StatDecl kEstimator("sample.estimator", StatKind::kProperty, "",
+                          "sample.estimator");
+const StatDecl kTargetCi("sample.target_ci", StatKind::kProperty, "",
+                         "sample.target_ci");
+const StatDecl kUnits("sample.units", StatKind::kProperty, "units",
+                      "units simulated");
+const StatDecl kUnitsTotal("sample.units_total", StatKind::kProperty, "units",
+                           "units of the frame");
+const StatDecl kRounds("sample.rounds", StatKind::kProperty, "rounds",
+                       "rounds drawn");
+const StatDecl kPixels("sample.pixels", StatKind::kProperty, "pixels",
+                       "pixels simulated");
+const StatDecl kFraction("sample.fraction", StatKind::kRatio, "",
+                         "sample.pixels / the frame's pixels");
+const StatDecl kCiValid("sample.ci_valid", StatKind::kProperty, "",
+                        "the intervals are valid (enough units)");
+const StatDecl kProblem("sample.problem", StatKind::kProperty, "",
+                      "why they are not, or """);
+const StatDecl kTargetMet("sample.target_met", StatKind::kProperty, "",
+                          "sample.target_ci was met");
+const StatDecl kPerGeneration("sample.per_generation", StatKind::kProperty, "",
+                              "units sampled per generation (wavefront)");
+}  // namespace
+
 namespace {
 
 const char* const kRayKeys[kRayKinds] = {"rays.primary", "rays.shadow", "rays.reflection",
@@ -22,11 +67,6 @@ const char* const kPairedKeys[] = {"dram.bytes.nodes", "dram.bytes.total", "l1.m
                                    "sim.cycles", "estimate.cycles"};
 
 // The cycle tier's unit and DRAM counters: sums over rays and requests like the others.
-const char* const kUnitCounters[] = {
-    "unit.rays",     "unit.steps",    "unit.leaf_steps", "unit.isect_tests",  "unit.events",
-    "unit.kernel_waits", "unit.stack_overflow_steps", "dram.requests", "dram.row_hits",
-    "dram.row_misses", "dram.row_conflicts"};
-
 bool is_ray_key(const std::string& key) {
   return key == "rays.total" || std::find(std::begin(kRayKeys), std::end(kRayKeys), key) !=
                                     std::end(kRayKeys);
@@ -34,28 +74,10 @@ bool is_ray_key(const std::string& key) {
 
 }  // namespace
 
-bool SampledFrame::is_extensive(const std::string& key) {
-  if (is_ray_key(key) || key.rfind("dram.bytes.", 0) == 0 || key.rfind("fetch.", 0) == 0 ||
-      key.rfind("traversal.", 0) == 0 || key == "sim.cycles")
-    return true;
-  for (const char* counter : kUnitCounters)
-    if (key == counter) return true;
-  // The timed interleaved mode's estimate.* (TimedInterleaver): its clock runs on from one
-  // trace() to the next and its miss and stall counts only grow, so a unit's change of each is
-  // its share of the frame's figure, as for sim.cycles.
-  if (key == "estimate.cycles") return true;
-  if (key.rfind("l1.", 0) == 0 || key.rfind("dcache.", 0) == 0 ||
-      key.rfind("estimate.l1.", 0) == 0)
-    for (const char* tail : {".accesses", ".hits", ".misses", ".primary_misses", ".merged_misses",
-                             ".mshr_stall_cycles"})
-      if (key.ends_with(tail)) return true;
-  return false;
-}
-
 void SampledFrame::add_extensive_change(const Stats& before, const Stats& after,
                                         std::map<std::string, double>& into) {
   for (const auto& [key, value] : after.values())
-    if (is_extensive(key) && value.is_number())
+    if (is_counter_key(key) && value.is_number())
       into[key] += value.get<double>() - before.at(key).get<double>();
 }
 

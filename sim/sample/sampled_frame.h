@@ -44,10 +44,8 @@ class SampledFrame {
   // paired differences of every pair of layouts. Says on stderr when the CIs are not valid.
   void write_run_stats(Stats& stats) const;
 
-  // Whether a stats key is an extensive figure (a count that adds up over pixels).
-  static bool is_extensive(const std::string& key);
-  // Adds each extensive figure's change from `before` to `after` (the tier's stats around a
-  // measured span) to `into`.
+  // Adds each counter's (util/stat_decl.h) change from `before` to `after` (the tier's stats
+  // around a measured span) to `into`.
   static void add_extensive_change(const Stats& before, const Stats& after,
                                    std::map<std::string, double>& into);
 

@@ -2,9 +2,35 @@
 #include "tier/functional_tier.h"
 
 #include "config/param.h"
+#include "util/stat_decl.h"
 #include "util/stats.h"
 
 namespace rtusim {
+namespace {
+// Stats keys of the functional tier and its chip.
+const StatDecl kNodeFetches("traversal.node_fetches", StatKind::kCounter, "fetches",
+                            "node fetches (traversal steps)");
+const StatDecl kListFetches("traversal.list_fetches", StatKind::kCounter, "fetches",
+                            "leaf primitive-list fetches");
+const StatDecl kTriangleFetches("traversal.triangle_fetches", StatKind::kCounter, "fetches",
+                                "triangle fetches");
+const StatDecl kRaysInFlightStat("functional.rays_in_flight", StatKind::kProperty, "rays",
+                                 "the interleaved mode's rays in flight");
+const StatDecl kTimedStat("functional.timed", StatKind::kProperty, "",
+                          "the timed mode was on");
+const StatDecl kTimedSegmentsStat("functional.timed_segments", StatKind::kProperty, "runs",
+                                  "the timed mode's runs");
+const StatDecl kChipUnits("chip.units", StatKind::kProperty, "units",
+                          "traversal units of the chip (written when several, or with an L2)");
+const StatDecl kL2BytesIn("l2.bytes.in", StatKind::kCounter, "bytes",
+                          "bytes the units' caches read from the L2 (lines they missed, bursts "
+                          "past them)");
+const StatDecl kL2StreamBytesIn("l2.bytes.in.<stream>", StatKind::kCounter, "bytes",
+                                "l2.bytes.in of the stream");
+const StatDecl kL2MissRate("l2.miss_rate", StatKind::kRatio, "",
+                           "l2.misses / l2.accesses");
+}  // namespace
+
 namespace {
 const FunctionalParams kFunctional;
 const IntParam kRaysInFlight("functional.rays_in_flight", kFunctional.rays_in_flight, 1, 1 << 16,
@@ -73,7 +99,7 @@ void FunctionalTier::write_chip_stats(const ChipCaches& chip, Stats& stats) cons
     write_stats(chip.unit(u).counters(), data_cache_on, unit);
     for (const auto& [key, value] : unit.values())
       if (!chip.has_l2() || !key.starts_with("dram.")) stats.set(prefix + key, value);
-    stats.set(prefix + "rays", chip.rays(u));
+    stats.set(prefix + "rays.total", chip.rays(u));
     if (chip.has_l2()) {
       const ChipCaches::L2Counters& l2 = chip.l2_unit(u);
       stats.set(prefix + "l2.accesses", l2.accesses);

@@ -9,9 +9,24 @@
 
 #include "layout/layout_dispatch.h"
 #include "tracer/chunk_pipeline.h"
+#include "util/stat_decl.h"
 #include "util/stats.h"
 
 namespace rtusim {
+namespace {
+// Stats keys of the functional tier's timed mode.
+const StatDecl kEstimateCycles("estimate.cycles", StatKind::kCounter, "cycles",
+                               "the timed mode's estimate of the cycle tier's sim.cycles");
+const StatDecl kEstimatePrimary("estimate.l1.primary_misses", StatKind::kCounter, "lines",
+                                "its estimate of l1.primary_misses");
+const StatDecl kEstimateMerged("estimate.l1.merged_misses", StatKind::kCounter, "lines",
+                               "its estimate of l1.merged_misses");
+const StatDecl kEstimateStalls("estimate.l1.mshr_stall_cycles", StatKind::kCounter, "cycles",
+                               "its estimate of l1.mshr_stall_cycles");
+const StatDecl kEstimateRuns("estimate.runs", StatKind::kProperty, "runs",
+                             "runs of rays timed apart (functional.timed_segments > 1)");
+}  // namespace
+
 
 TimedInterleaver::TimedInterleaver(const MemoryImage& image, const CycleParams& timing,
                                    int rays_in_flight, int segments, int warmup_rays)

@@ -7,15 +7,6 @@
 
 namespace rtusim {
 
-// A key whose value is wall-clock time or a rate over it (`*seconds`, `trace.rays_per_second`,
-// `sample.rays_simulated_per_second`, also under a `layout.<kind>.` prefix): the only keys that
-// differ between runs of one config. Rates over simulated time (`sim.rays_per_second`,
-// `dram.gbytes_per_second`, `report.*_per_second`) are results.
-inline bool is_timing_key(const std::string& key) {
-  return key.ends_with("seconds") || key.ends_with("trace.rays_per_second") ||
-         key.ends_with("sample.rays_simulated_per_second");
-}
-
 class Stats {
  public:
   template <class T>

@@ -85,10 +85,10 @@ assert s["l2u1"]["l2.misses"] * 64 == s["l2u1"]["dram.bytes.total"]
 for n in ["l2u4", "u4"]:
     t = s[n]
     assert t["traversal.node_fetches"] == s["plain"]["traversal.node_fetches"], n
-    for k in ["l1.accesses", "l1.misses", "traversal.node_fetches", "rays"]:
-        total = t["rays.total"] if k == "rays" else t[k]
+    for k in ["l1.accesses", "l1.misses", "traversal.node_fetches", "rays.total"]:
+        total = t[k]
         assert sum(t[f"units.{u}.{k}"] for u in range(4)) == total, (n, k)
-    assert all(t[f"units.{u}.rays"] > 0 for u in range(4)), n
+    assert all(t[f"units.{u}.rays.total"] > 0 for u in range(4)), n
 t = s["u4"]
 assert sum(t[f"units.{u}.dram.bytes.total"] for u in range(4)) == t["dram.bytes.total"]
 t = s["l2u4"]

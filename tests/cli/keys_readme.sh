@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# `rtusim keys`: the README's key table is its markdown output (no drift); json and text list
-# the same keys.
+# `rtusim keys`: the README's key table is its markdown output, and docs/stats.md's table that
+# of `keys --stats` (no drift); json and text list the same keys.
 set -euo pipefail
 rtusim=$1; src=$2
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
@@ -10,6 +10,15 @@ sed -n '/<!-- rtusim keys: begin -->/,/<!-- rtusim keys: end -->/p' "$src/README
   | sed '1d;$d' > "$tmp/readme.md"
 if ! diff -u "$tmp/readme.md" "$tmp/keys.md"; then
   echo "FAIL: README key table differs from 'rtusim keys --format markdown' (regenerate it)"
+  exit 1
+fi
+
+# The stats keys' table in docs/stats.md is `keys --stats --format markdown`, likewise.
+"$rtusim" keys --stats --format markdown > "$tmp/stats.md"
+sed -n '/<!-- rtusim stats: begin -->/,/<!-- rtusim stats: end -->/p' "$src/docs/stats.md" \
+  | sed '1d;$d' > "$tmp/docs_stats.md"
+if ! diff -u "$tmp/docs_stats.md" "$tmp/stats.md"; then
+  echo "FAIL: docs/stats.md differs from 'rtusim keys --stats --format markdown' (regenerate it)"
   exit 1
 fi
 

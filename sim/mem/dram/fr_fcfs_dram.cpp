@@ -3,9 +3,22 @@
 #include <algorithm>
 #include <bit>
 
+#include "util/stat_decl.h"
 #include "util/stats.h"
 
 namespace rtusim {
+namespace {
+// Stats keys of the FR-FCFS DRAM model.
+const StatDecl kRowHits("dram.row_hits", StatKind::kCounter, "requests",
+                        "requests to the open row of their bank");
+const StatDecl kRowMisses("dram.row_misses", StatKind::kCounter, "requests",
+                          "requests to a bank with no open row");
+const StatDecl kRowConflicts("dram.row_conflicts", StatKind::kCounter, "requests",
+                             "requests that closed another open row");
+const StatDecl kRowHitRate("dram.row_hit_rate", StatKind::kRatio, "",
+                           "row hits / requests");
+}  // namespace
+
 
 FrFcfsDram::FrFcfsDram(const DramParams& p)
     : p_(p), tRCD_ps_(p.tRCD_ps()), tRP_ps_(p.tRP_ps()), tCL_ps_(p.tCL_ps()), tBurst_ps_(p.burst_ps()) {
