@@ -1,6 +1,7 @@
 // The frame traced through NodeStreamBackend into a digest or a trace writer.
 #include "app/node_stream.h"
 
+#include "chip/ray_dealer.h"
 #include "scene/pinhole_camera.h"
 #include "tier/chip_functional_backend.h"
 #include "trace/node_stream_backend.h"
@@ -24,7 +25,8 @@ void render_frame(const Prepared& p, const MemoryImage& image, NodeStreamRecorde
   const int w = p.config.image.width, h = p.config.image.height;
   const PinholeCamera camera(p.camera, w, h);
   NodeStreamBackend backend(image, recorder);
-  parallel_render(p.scene, p.config.tracer, backend, camera, w, h);
+  const std::vector<uint32_t> order = chip_pixel_order(p.config.chip, w, h);
+  parallel_render(p.scene, p.config.tracer, backend, camera, w, h, order);
 }
 
 }  // namespace
@@ -45,7 +47,8 @@ void write_l2_stream(const Prepared& p, const MemoryImage& image, TraceWriter& w
   ChipFunctionalBackend backend(image, p.config.fetch_caches(), p.config.chip,
                                 static_cast<uint32_t>(w), static_cast<uint32_t>(w * h));
   backend.chip().observe_l2([&](const NextLevelRequest& r) { writer.append(r.addr); });
-  parallel_render(p.scene, p.config.tracer, backend, PinholeCamera(p.camera, w, h), w, h);
+  const std::vector<uint32_t> order = chip_pixel_order(p.config.chip, w, h);
+  parallel_render(p.scene, p.config.tracer, backend, PinholeCamera(p.camera, w, h), w, h, order);
   backend.end_frame();
 }
 

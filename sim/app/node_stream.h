@@ -1,5 +1,6 @@
 // The node-fetch address stream of a prepared run's frame (NodeStreamBackend), into a digest or
-// a trace file: what `rtusim regress` records and `rtusim trace` writes.
+// a trace file: what `rtusim regress` records and `rtusim trace` writes. The frame's pixels go
+// in the run's order (a chip's tiles: chip_pixel_order()).
 #pragma once
 #include "app/pipeline.h"
 #include "trace/trace_format.h"

@@ -9,6 +9,7 @@
 
 #include <oneapi/tbb/parallel_for.h>
 
+#include "chip/ray_dealer.h"
 #include "sample/sampled_frame.h"
 #include "tier/progress_backend.h"
 #include "tier/tier.h"
@@ -144,9 +145,10 @@ FrameResult render_timed(const Prepared& p, TraceBackend& backend, const std::st
   std::optional<ProgressBackend> progress;
   if (progress_bar) progress.emplace(backend, uint64_t(w) * h, label);
   TraceBackend& target = progress ? static_cast<TraceBackend&>(*progress) : backend;
+  const std::vector<uint32_t> order = chip_pixel_order(p.config.chip, w, h);
   const auto t0 = std::chrono::steady_clock::now();
-  FrameResult frame =
-      parallel_render(p.scene, p.config.tracer, target, PinholeCamera(p.camera, w, h), w, h);
+  FrameResult frame = parallel_render(p.scene, p.config.tracer, target,
+                                      PinholeCamera(p.camera, w, h), w, h, order);
   seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return frame;
 }

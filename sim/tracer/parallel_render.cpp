@@ -155,8 +155,13 @@ void parallel_render_pixels(const Scene& scene, const TracerParams& params,
 }
 
 FrameResult parallel_render(const Scene& scene, const TracerParams& params, TraceBackend& backend,
-                            const PinholeCamera& camera, int width, int height) {
+                            const PinholeCamera& camera, int width, int height,
+                            std::span<const uint32_t> order) {
   FrameResult out = WhittedTracer(scene, params, backend).begin_frame(camera, width, height);
+  if (!order.empty()) {
+    parallel_render_pixels(scene, params, backend, camera, order, out);
+    return out;
+  }
   std::vector<uint32_t> pixels(out.radiance.size());
   std::iota(pixels.begin(), pixels.end(), 0u);  // scan order
   parallel_render_pixels(scene, params, backend, camera, pixels, out);

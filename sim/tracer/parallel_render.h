@@ -44,8 +44,10 @@ void parallel_render_pixels(const Scene& scene, const TracerParams& params,
                             TraceBackend& backend, const PinholeCamera& camera,
                             std::span<const uint32_t> pixels, FrameResult& out);
 
-// WhittedTracer::render() on every core with the single-thread result.
+// WhittedTracer::render() on every core with the single-thread result; the pixels in `order`
+// (every pixel once) instead of scan order when it is not empty.
 FrameResult parallel_render(const Scene& scene, const TracerParams& params, TraceBackend& backend,
-                            const PinholeCamera& camera, int width, int height);
+                            const PinholeCamera& camera, int width, int height,
+                            std::span<const uint32_t> order = {});
 
 }  // namespace rtusim

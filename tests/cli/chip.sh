@@ -2,8 +2,8 @@
 # The chip in the functional tier (chip.units, l2.*), checked against independent truths:
 # - the L2's input stream (`rtusim trace --level l2`) through the Python reference cache
 #   (tests/cache_ref.py) gives exactly l2.accesses and l2.misses, for 1 and 4 units;
-# - with one unit, the node requests in that stream are the node L1's misses that a plain
-#   Python LRU computes from the node-fetch trace, line by line in order;
+# - with one unit (in the tracer's order), the node requests in that stream are the node L1's
+#   misses that a plain Python LRU computes from the node-fetch trace, line by line in order;
 # - an L2 changes nothing before it (l1.*, traversal.*), and what the L1s send it is what they
 #   sent DRAM without it; the units' counts add up to the totals and to the one-unit fetches;
 # - the same stats for --threads 1 and 2; sweep points over chip.units and l2.size equal their
@@ -25,7 +25,8 @@ run() {  # run NAME ARGS...: rtusim run into $tmp/NAME
   "$rtusim" run "$cfg" "${small[@]}" "$@" --out "$tmp/$name" > /dev/null || bad "run $name"
 }
 run plain
-run l2u1 "${l2[@]}"
+# One unit takes the tracer's own order in runs of rays (tiles would trace tile by tile).
+run l2u1 "${l2[@]}" --set chip.distribution=batches
 run l2u4 "${l2[@]}" --set chip.units=4
 run l2u4t1 "${l2[@]}" --set chip.units=4 --threads 1
 run u4 --set chip.units=4
@@ -33,7 +34,7 @@ run l2u4b "${l2[@]}" --set chip.units=4 --set chip.distribution=batches --set ch
   --set tracer.ray_order=wavefront --set dcache.enable=true
 
 # 1. The L2 against the Python reference, 1 and 4 units, both distributions.
-for case in "l2u1 1 tiles recursive false" "l2u4 4 tiles recursive false" \
+for case in "l2u1 1 batches recursive false" "l2u4 4 tiles recursive false" \
             "l2u4b 4 batches wavefront true"; do
   read -r name units dist order dcache <<< "$case"
   "$rtusim" trace "$cfg" "${small[@]}" "${l2[@]}" --set chip.units=$units \
@@ -47,9 +48,17 @@ for case in "l2u1 1 tiles recursive false" "l2u4 4 tiles recursive false" \
     bad "$name: l2.misses $got_misses / accesses $got_accesses, reference $want_misses / $want_accesses"
 done
 
-# 2. One unit: the node requests the L2 takes are the node L1's LRU misses, in order.
+# 2. One unit: the node requests the L2 takes are the node L1's LRU misses, in order, in the
+# tracer's order (batches) and tile by tile (tiles; trace writes the node stream in that order).
 "$rtusim" trace "$cfg" "${small[@]}" --out "$tmp/nodes.din" > /dev/null || bad "trace nodes"
-"$py" - "$tmp/nodes.din" "$tmp/l2u1.din" "$(key "$tmp/plain/stats.json" mem.nodes.bytes)" <<'PY' && ok || bad "one unit: node requests are not the L1's misses"
+"$rtusim" trace "$cfg" "${small[@]}" "${l2[@]}" --out "$tmp/nodes_tiles.din" > /dev/null ||
+  bad "trace nodes, tiles"
+"$rtusim" trace "$cfg" "${small[@]}" "${l2[@]}" --level l2 --out "$tmp/l2u1_tiles.din" > /dev/null ||
+  bad "trace --level l2, tiles"
+cmp -s "$tmp/nodes.din" "$tmp/nodes_tiles.din" && bad "tile order is the scan order"
+for pair in "nodes l2u1" "nodes_tiles l2u1_tiles"; do
+  read -r nodes l2in <<< "$pair"
+  "$py" - "$tmp/$nodes.din" "$tmp/$l2in.din" "$(key "$tmp/plain/stats.json" mem.nodes.bytes)" <<'PY' && ok || bad "one unit ($l2in): node requests are not the L1's misses"
 import sys
 from collections import OrderedDict
 nodes = [int(l.split()[1], 16) for l in open(sys.argv[1]) if l.strip()]
@@ -70,6 +79,7 @@ for a in nodes:  # 8-byte nodes, 8-byte aligned: one line each
 node_requests = [a for a in l2_in if a < node_end]
 assert misses == node_requests, (len(misses), len(node_requests))
 PY
+done
 
 # 3. Before the L2 nothing changes; the L1s send the L2 what they sent DRAM; sums and threads.
 "$py" - "$tmp" <<'PY' && ok || bad "level and unit sums"

@@ -1,6 +1,6 @@
 // The functional chip: the units' requests reach the shared L2 in turn order (hand-computed
-// sequences), requests and bytes are conserved between levels, and rays are dealt to units by
-// tile or in runs.
+// sequences), requests and bytes are conserved between levels, rays are dealt to units by tile
+// or in runs, and a chip traces the frame tile by tile.
 #include <cstdint>
 #include <vector>
 
@@ -120,6 +120,19 @@ TEST(RayDealer, BatchesAreRunsOfRaysDealtInTurn) {
   std::vector<uint32_t> units;
   for (int i = 0; i < 8; ++i) units.push_back(d.next(99));  // the pixel does not matter
   EXPECT_EQ(units, (std::vector<uint32_t>{0, 0, 1, 1, 2, 2, 0, 0}));
+}
+
+TEST(ChipPixelOrder, TileByTileOnAChipScanOrderElse) {
+  // 5x3 pixels, 2x2 tiles: tiles (0,0) (2,0) (4,0) then (0,2) (2,2) (4,2), each row by row.
+  ChipParams c;
+  c.units = 2;
+  c.tile_pixels = 2;
+  EXPECT_EQ(chip_pixel_order(c, 5, 3),
+            (std::vector<uint32_t>{0, 1, 5, 6, 2, 3, 7, 8, 4, 9, 10, 11, 12, 13, 14}));
+  c.distribution = RayDistribution::kBatches;
+  EXPECT_TRUE(chip_pixel_order(c, 5, 3).empty());
+  c = ChipParams{};  // one unit, no L2: the simulator's own order
+  EXPECT_TRUE(chip_pixel_order(c, 5, 3).empty());
 }
 
 }  // namespace
