@@ -42,8 +42,17 @@ void ChipFunctionalBackend::replay(const FetchLog& log) {
     void fetch(Stream s, uint64_t addr, uint32_t bytes) { ray.push_back({s, bytes, addr}); }
     void end_ray(uint32_t pixel, RayKind, uint64_t /*direct_dram_bytes: none, all logged*/) {
       const uint32_t u = backend.dealer_.next(pixel);
-      backend.chip_.unit(u).with_inlined_node_l1([&](auto& sink) {
-        for (const Fetch& f : ray) sink.fetch(f.stream, f.addr, f.bytes);
+      FetchCache& caches = backend.chip_.unit(u);
+      const uint64_t line_mask = ~uint64_t{caches.node_l1().params().line_bytes - 1u};
+      caches.with_inlined_node_l1([&](auto& sink) {
+        // A one-line node fetch by the one-line path (the same counts, as the plain tier's
+        // replay does).
+        for (const Fetch& f : ray)
+          if (f.stream == Stream::kNode && f.bytes != 0 &&
+              ((f.addr ^ (f.addr + f.bytes - 1)) & line_mask) == 0)
+            sink.fetch_node_line(f.addr);
+          else
+            sink.fetch(f.stream, f.addr, f.bytes);
       });
       backend.chip_.end_ray(u, pixel);
       ray.clear();
