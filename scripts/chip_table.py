@@ -14,36 +14,16 @@ Usage: scripts/chip_table.py [--scenes kitchen sponza_dabrovic] [--size 512] [--
                              [--l2 1048576] [--out out/chip] [--rtusim build/rtusim] [--doc]
 """
 import csv
-import json
 import pathlib
 import re
 import sys
 
-from script_cli import (ScriptError, guarded, output_dir, parser, positive_int, run_rtusim,
-                        write_atomically)
+from layout_table import pct, run as run_layouts
+from script_cli import ScriptError, guarded, output_dir, parser, positive_int, write_atomically
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 LAYOUTS = ["dfl", "odfl", "subtree", "cluster", "profile"]
 MARK_BEGIN, MARK_END = "<!-- chip-table -->", "<!-- /chip-table -->"
-
-
-def run(rtusim, scene, size, out_dir, extra):
-    """One rtusim run of every layout; returns its stats."""
-    kinds = ",".join(f'"{k}"' for k in LAYOUTS)
-    cmd = [str(rtusim), "run", str(ROOT / "configs" / f"{scene}.toml"),
-           "--set", f"layout.kind=[{kinds}]",
-           "--set", f"image.width={size}", "--set", f"image.height={size}",
-           "--set", "tracer.max_depth=4", "--set", "tracer.ray_order=recursive",
-           "--set", "l1.size=8192", "--set", "l1.assoc=4", "--set", "l1.line=64",
-           "--set", "l1.policy=lru", "--set", "image.png=false", "--set", "image.heatmaps=false",
-           *extra, "--out", str(out_dir)]
-    print("+", " ".join(cmd), flush=True)
-    run_rtusim(cmd, f"{scene}, {size}x{size}, {' '.join(extra)}")
-    return json.loads((out_dir / "stats.json").read_text())
-
-
-def pct(x, base):
-    return f"{100 * (x / base - 1):+.1f}%"
 
 
 def main():
@@ -72,11 +52,13 @@ def main():
     # The study's setting (one unit straight to DRAM), then the chip at each unit count.
     stats, rows = {}, []
     for scene in args.scenes:
-        stats[(scene, 0)] = run(args.rtusim, scene, args.size, args.out / f"{scene}_no_l2", [])
+        stats[(scene, 0)] = run_layouts(args.rtusim, scene, args.size, 8192,
+                                        args.out / f"{scene}_no_l2", layouts=LAYOUTS)
         for units in args.units:
-            stats[(scene, units)] = run(args.rtusim, scene, args.size,
-                                        args.out / f"{scene}_{units}_units",
-                                        [*l2, "--set", f"chip.units={units}"])
+            stats[(scene, units)] = run_layouts(args.rtusim, scene, args.size, 8192,
+                                                args.out / f"{scene}_{units}_units",
+                                                [*l2, "--set", f"chip.units={units}"],
+                                                layouts=LAYOUTS)
     for (scene, units), s in stats.items():
         for kind in LAYOUTS:
             p = f"layout.{kind}."

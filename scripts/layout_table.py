@@ -29,11 +29,11 @@ SCENES = ["kitchen", "sponza_dabrovic", "cornell_whitted", "iridescent_dish",
 MARK_BEGIN, MARK_END = "<!-- layout-table -->", "<!-- /layout-table -->"
 
 
-def run(rtusim, scene, size, l1_bytes, out_dir, extra=(), reuse=False):
+def run(rtusim, scene, size, l1_bytes, out_dir, extra=(), reuse=False, layouts=LAYOUTS):
     """One rtusim run of every layout; returns its stats (with reuse, an earlier run's)."""
     if reuse and (out_dir / "stats.json").exists():
         return json.loads((out_dir / "stats.json").read_text())
-    kinds = ",".join(f'"{k}"' for k in LAYOUTS)
+    kinds = ",".join(f'"{k}"' for k in layouts)
     cmd = [str(rtusim), "run", str(ROOT / "configs" / f"{scene}.toml"),
            "--set", f"layout.kind=[{kinds}]",
            "--set", f"image.width={size}", "--set", f"image.height={size}",

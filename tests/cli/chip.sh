@@ -126,7 +126,29 @@ TOML
 "$py" "$src/tests/cli/sweep_check.py" "$rtusim" "$tmp/sweep" 1 chip.units,l2.size && ok ||
   bad "chip sweep differs from rtusim run"
 
-# 5. Bad input: one line, exit 2, nothing written.
+# 5. scripts/chip_table.py: its table holds the runs' figures (the built-in room, 32x32).
+if [ -x "$src/.venv/bin/python" ]; then
+  "$src/.venv/bin/python" "$src/scripts/chip_table.py" --scenes default --size 32 --units 1 3 \
+    --out "$tmp/ct" --rtusim "$rtusim" > /dev/null || bad "chip_table.py"
+  "$py" - "$tmp/ct" <<'PY' && ok || bad "chip_table.py: the CSV is not the runs' stats"
+import csv, json, sys
+d = sys.argv[1]
+rows = list(csv.DictReader(open(f"{d}/chip_layouts.csv")))
+assert len(rows) == 3 * 5, len(rows)  # no L2, 1 and 3 units; five layouts
+for r in rows:
+    name = "default_no_l2" if r["units"] == "0" else f"default_{r['units']}_units"
+    s = json.load(open(f"{d}/{name}/stats.json"))
+    p = f"layout.{r['layout']}."
+    assert int(r["dram_node_bytes"]) == s[p + "dram.bytes.nodes"], r
+    if r["units"] != "0":
+        assert int(r["l2_in_node_bytes"]) == s[p + "l2.bytes.in.nodes"], r
+        assert s["chip.units"] == int(r["units"]), r
+table = open(f"{d}/chip_layouts.md").read()
+assert "| default | odfl |" in table and "3 units: L1→L2 MB" in table
+PY
+fi
+
+# 6. Bad input: one line, exit 2, nothing written.
 expect_refusal() {  # expect_refusal WORD ARGS...: exit 2, one line naming WORD, no output
   local word=$1; shift
   "$rtusim" "$@" > /dev/null 2> "$tmp/err"; local rc=$?

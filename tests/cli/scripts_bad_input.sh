@@ -50,9 +50,13 @@ printf 'l1.size\n1024\n' > "$tmp/sp/results.csv"
 expect_bad sp-no-column "$py" "$s/sweep_plot.py" "$tmp/sp"
 [ -z "$(ls "$tmp/sp" | grep png)" ] || { echo "FAIL: sweep_plot wrote a plot on bad input"; fails=$((fails + 1)); }
 
-# layout_table.py, study_experiment.py, sweep_dask.py
+# layout_table.py, chip_table.py, study_experiment.py, sweep_dask.py
 expect_bad lt-size-0 "$py" "$s/layout_table.py" --scenes box --size 0 --out "$tmp/lt" --rtusim "$rtusim"
 expect_bad lt-bad-l1 "$py" "$s/layout_table.py" --scenes box --size 8 --l1 1000 --out "$tmp/lt" --rtusim "$rtusim"
+expect_bad ct-no-scene "$py" "$s/chip_table.py" --scenes nosuch --out "$tmp/ct" --rtusim "$rtusim"
+expect_bad ct-units-0 "$py" "$s/chip_table.py" --scenes box --units 0 --out "$tmp/ct" --rtusim "$rtusim"
+expect_bad ct-bad-l2 "$py" "$s/chip_table.py" --scenes box --size 8 --l2 1000 --out "$tmp/ct" --rtusim "$rtusim"
+[ ! -e "$tmp/ct/chip_layouts.csv" ] || { echo "FAIL: chip_table wrote a table on bad input"; fails=$((fails + 1)); }
 expect_bad se-no-scene "$py" "$s/study_experiment.py" --scenes nosuch --out "$tmp/se" --rtusim "$rtusim"
 [ ! -e "$tmp/se" ] || { echo "FAIL: study_experiment made its --out on bad input"; fails=$((fails + 1)); }
 expect_bad sd-no-out "$py" "$s/sweep_dask.py" --scheduler tcp://127.0.0.1:1 --jobs 0 -- "$rtusim" sweep x.toml
