@@ -46,7 +46,7 @@ void write_l2_stream(const Prepared& p, const MemoryImage& image, TraceWriter& w
   const int w = p.config.image.width, h = p.config.image.height;
   ChipFunctionalBackend backend(image, p.config.fetch_caches(), p.config.chip,
                                 static_cast<uint32_t>(w), static_cast<uint32_t>(w * h));
-  backend.chip().observe_l2([&](const NextLevelRequest& r) { writer.append(r.addr); });
+  backend.chip().observe_l2([&](const NextLevelRequest& r, uint32_t) { writer.append(r.addr); });
   const std::vector<uint32_t> order = chip_pixel_order(p.config.chip, w, h);
   parallel_render(p.scene, p.config.tracer, backend, PinholeCamera(p.camera, w, h), w, h, order);
   backend.end_frame();

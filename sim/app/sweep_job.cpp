@@ -7,9 +7,13 @@
 #include <tuple>
 
 #include "app/simulation.h"
+#include "chip/ray_dealer.h"
 #include "scene/pinhole_camera.h"
+#include "sweep/l2_lru_sweep.h"
 #include "sweep/sweep_backend.h"
+#include "tier/chip_functional_backend.h"
 #include "tier/functional_tier.h"
+#include "tracer/parallel_render.h"
 #include "tracer/whitted_tracer.h"
 #include "util/stat_decl.h"
 #include "util/stats.h"
@@ -126,6 +130,79 @@ void run_functional(const SweepPlan& plan, const SweepJob& job, const std::strin
   }
 }
 
+// A job of chip points that differ only in their LRU L2 (and layout): per layout, the frame
+// traced once through the units' caches with the first point's L2, the L2's requests fed to
+// every point's L2 at once (L2LruSweep), and each point's stats written by the functional
+// tier's chip writer from its L2's counts.
+void run_l2_family(const SweepPlan& plan, const SweepJob& job, const std::string& base_path,
+                   nlohmann::json& rows) {
+  const SweepPoint& anchor = plan.points[job.points.front()];
+  std::vector<std::string> kinds;
+  for (const size_t i : job.points)
+    if (std::find(kinds.begin(), kinds.end(), plan.points[i].layout) == kinds.end())
+      kinds.push_back(plan.points[i].layout);
+  std::vector<std::string> overrides = plan.sets;
+  for (const auto& o : anchor.overrides)
+    if (o.rfind("layout.kind=", 0) != 0) overrides.push_back(o);
+  std::string list;
+  for (const auto& k : kinds) list += (list.empty() ? "'" : ", '") + k + "'";
+  overrides.push_back("layout.kind=[" + list + "]");
+  const Prepared p = prepare_run(base_path, overrides);
+  const int w = p.config.image.width, h = p.config.image.height;
+  const ChipParams& chip = p.config.chip;
+  const std::vector<uint32_t> order = chip_pixel_order(chip, w, h);
+
+  for (size_t li = 0; li < kinds.size(); ++li) {
+    std::vector<size_t> points;
+    std::vector<CacheParams> l2s;
+    for (const size_t i : job.points)
+      if (plan.points[i].layout == kinds[li]) {
+        points.push_back(i);
+        l2s.push_back(*plan.points[i].chip.l2);
+      }
+    if (points.empty()) continue;
+    const MemoryImage& image = p.images[li];
+    ChipFunctionalBackend backend(image, p.config.fetch_caches(), chip,
+                                  static_cast<uint32_t>(w), static_cast<uint32_t>(w * h));
+    L2LruSweep l2_sweep(l2s, chip.units, image.bytes.size());
+    backend.chip().observe_l2([&](const NextLevelRequest& r, uint32_t unit) {
+      l2_sweep.access(unit, r.stream, r.addr, r.bytes);
+    });
+    const auto t0 = std::chrono::steady_clock::now();
+    const FrameResult frame = parallel_render(p.scene, p.config.tracer, backend,
+                                              PinholeCamera(p.camera, w, h), w, h, order);
+    backend.end_frame();
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+    Stats base;
+    add_run_stats(p, frame, base);
+    add_image_stats(image, base);
+    const ChipL2Counts& taken = backend.chip().l2_counts();  // bytes in: the same for every L2
+    for (size_t k = 0; k < points.size(); ++k) {
+      ChipL2Counts l2;
+      l2.units.resize(chip.units);
+      for (uint32_t u = 0; u < chip.units; ++u)
+        for (int s = 0; s < FetchCache::kStreams; ++s) {
+          const L2LruSweep::Counts c = l2_sweep.counts(k, u, static_cast<Stream>(s));
+          const uint64_t dram_bytes = c.misses * l2s[k].line_bytes;
+          for (L2Counters* into : {&l2.streams[s], &l2.units[u]}) {
+            into->accesses += c.accesses;
+            into->hits += c.accesses - c.misses;
+            into->misses += c.misses;
+            into->dram_bytes += dram_bytes;
+          }
+        }
+      for (int s = 0; s < FetchCache::kStreams; ++s) l2.streams[s].bytes_in = taken.streams[s].bytes_in;
+      for (uint32_t u = 0; u < chip.units; ++u) l2.units[u].bytes_in = taken.units[u].bytes_in;
+      Stats stats = base;
+      FunctionalTier::write_chip_stats(backend.chip(), l2, stats);
+      add_report_stats(frame, p.config.report.frames_per_second, seconds, stats);
+      rows[std::to_string(points[k])] = to_json_row(stats);
+    }
+  }
+}
+
 }  // namespace
 
 nlohmann::json run_sweep_job(const SweepPlan& plan, size_t job, const std::string& base_path,
@@ -139,6 +216,8 @@ nlohmann::json run_sweep_job(const SweepPlan& plan, size_t job, const std::strin
     overrides.insert(overrides.end(), pt.overrides.begin(), pt.overrides.end());
     const Prepared p = prepare_run(base_path, overrides);
     rows[std::to_string(j.points.front())] = to_json_row(simulate(p).stats);
+  } else if (j.l2_family) {
+    run_l2_family(plan, j, base_path, rows);
   } else {
     run_functional(plan, j, base_path, threads, rows);
   }

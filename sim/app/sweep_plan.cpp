@@ -42,6 +42,12 @@ bool is_cache_key(const std::string& key) {
   return keys.count(key) != 0;
 }
 
+// Keys whose values only change a chip's LRU L2 (or the layout): chip points differing in them
+// share an L2 job.
+bool is_l2_family_key(const std::string& key) {
+  return key == "l2.size" || key == "l2.assoc" || key == "layout.kind";
+}
+
 // Inner dimensions in this order (the rest by name): layout, then per cache policy, line,
 // associativity, size (the size varies fastest: a row block is a miss-ratio curve).
 int inner_rank(const std::string& key) {
@@ -372,7 +378,7 @@ SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string
       entry[i] = rest % dims[i].values.size();
       rest /= dims[i].values.size();
     }
-    std::string job_key;
+    std::string job_key, l2_job_key = "l2\n";
     for (size_t i = 0; i < dims.size(); ++i)
       for (size_t k = 0; k < dims[i].keys.size(); ++k) {
         const std::string& v = dims[i].values[entry[i]][k];
@@ -385,6 +391,7 @@ SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string
         if (v.empty()) continue;
         pt.overrides.push_back(dims[i].keys[k] + "=" + v);
         if (!is_cache_key(dims[i].keys[k])) job_key += pt.overrides.back() + "\n";
+        if (!is_l2_family_key(dims[i].keys[k])) l2_job_key += pt.overrides.back() + "\n";
       }
     std::vector<std::string> all = sets;
     all.insert(all.end(), pt.overrides.begin(), pt.overrides.end());
@@ -439,14 +446,18 @@ SweepPlan plan_sweep(const std::string& spec_path, const std::vector<std::string
       throw point_error("layout.kind: a point has one layout (sweep layout.kind instead)", true);
     pt.caches = c.fetch_caches();
     pt.layout = c.layout.kinds.front();
-    pt.alone = c.sim.tier != FunctionalTier::kName || c.sample.active() ||
-               c.functional.interleaved() || !c.chip.single_unit();
+    pt.chip = c.chip;
+    const bool plain = c.sim.tier == FunctionalTier::kName && !c.sample.active() &&
+                       !c.functional.interleaved();
+    const bool l2_family = plain && c.chip.l2 && c.chip.l2->policy == "lru";
+    pt.alone = !plain || (!c.chip.single_unit() && !l2_family);
     if (pt.alone) {
       pt.job = plan.jobs.size();
       plan.jobs.push_back(SweepJob{{index}, true});
     } else {
-      auto [it, fresh] = job_of_key.try_emplace(job_key, plan.jobs.size());
-      if (fresh) plan.jobs.push_back(SweepJob{{}, false});
+      auto [it, fresh] =
+          job_of_key.try_emplace(l2_family ? l2_job_key : job_key, plan.jobs.size());
+      if (fresh) plan.jobs.push_back(SweepJob{{}, false, l2_family});
       pt.job = it->second;
       plan.jobs[pt.job].points.push_back(index);
     }
@@ -461,7 +472,8 @@ std::string job_error(const SweepPlan& plan, size_t job, const std::string& base
   const SweepPoint& pt = plan.points.at(j.points.front());
   std::vector<std::string> keys, cells;
   for (size_t i = 0; i < plan.columns.size(); ++i)
-    if (j.alone || !is_cache_key(plan.columns[i])) {
+    if (j.alone || (j.l2_family ? !is_l2_family_key(plan.columns[i])
+                                : !is_cache_key(plan.columns[i]))) {
       keys.push_back(plan.columns[i]);
       cells.push_back(pt.cells[i]);
     }

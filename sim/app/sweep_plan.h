@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "cache/fetch_cache.h"
+#include "chip/chip_params.h"
 
 namespace rtusim {
 
@@ -28,6 +29,7 @@ struct SweepPoint {
   std::vector<std::string> cells;      // CSV text of each swept column, as in the spec (a
                                        // relative scene.path made absolute)
   FetchCacheParams caches;             // the node L1 and data cache of the point
+  ChipParams chip;                     // its units and L2
   std::string layout;                  // its one layout.kind
   // Run alone by simulate(), as `rtusim run` runs it: a timed tier (cycle, rtl), a sampled run,
   // or the functional tier's interleaved or timed mode. The one-pass evaluation of a job's
@@ -39,6 +41,10 @@ struct SweepPoint {
 struct SweepJob {
   std::vector<size_t> points;  // in point order
   bool alone = false;          // one point, run by simulate()
+  // Chip points (several units or an L2) that differ only in their LRU L2's l2.size and
+  // l2.assoc (and layout.kind): one traced frame per layout through the units' caches, every L2
+  // evaluated in one pass over the requests it takes (L2LruSweep).
+  bool l2_family = false;
 };
 
 struct SweepPlan {

@@ -15,9 +15,10 @@ ChipCaches::ChipCaches(const FetchCacheParams& unit_caches, const ChipParams& ch
     : pixel_dram_bytes_(pixels, 0) {
   units_.reserve(chip.units);
   for (uint32_t u = 0; u < chip.units; ++u) units_.push_back(Unit{FetchCache(unit_caches)});
-  if (chip.l2) l2_.emplace(*chip.l2);
+  if (chip.l2) l2_cache_.emplace(*chip.l2);
+  l2_.units.resize(chip.units);
   // The units' requests are logged for the L2 (the log's address is stable: reserved above).
-  if (l2_)
+  if (l2_cache_)
     for (Unit& unit : units_) unit.caches.log_next_level(&unit.pending);
 }
 
@@ -31,7 +32,7 @@ void ChipCaches::charge(uint32_t pixel, uint64_t bytes) {
 void ChipCaches::end_ray(uint32_t u, uint32_t pixel) {
   Unit& unit = units_[u];
   ++unit.rays;
-  if (!l2_) {
+  if (!l2_cache_) {
     const uint64_t now = unit.caches.dram_bytes_total();
     charge(pixel, now - unit.ray_dram_from);
     unit.ray_dram_from = now;
@@ -42,7 +43,7 @@ void ChipCaches::end_ray(uint32_t u, uint32_t pixel) {
 }
 
 void ChipCaches::drain(bool all) {
-  if (!l2_) return;
+  if (!l2_cache_) return;
   // A unit's requests still to come have ordinals past its fetch count (or from its current
   // ray's first request on), so those at or below the lowest such bound are safe to send.
   uint64_t horizon = UINT64_MAX;
@@ -60,19 +61,19 @@ void ChipCaches::drain(bool all) {
       turns.emplace(unit.pending[unit.head].ordinal, u);
   };
   for (uint32_t u = 0; u < units(); ++u) queue_next(u);
-  l2_->visit([&](auto& l2) {
+  l2_cache_->visit([&](auto& l2) {
     const uint64_t line_bytes = l2.params().line_bytes;
     while (!turns.empty()) {
       const uint32_t u = turns.top().second;
       turns.pop();
       Unit& unit = units_[u];
       const NextLevelRequest& r = unit.pending[unit.head++];
-      if (l2_observer_) l2_observer_(r);
+      if (l2_observer_) l2_observer_(r, u);
       const uint64_t accesses_before = l2.accesses();
       const uint64_t missed = l2.access_range(r.addr, r.bytes);
       const uint64_t accessed = l2.accesses() - accesses_before;
       const uint64_t dram_bytes = missed * line_bytes;
-      for (L2Counters* c : {&l2_streams_[static_cast<int>(r.stream)], &unit.l2}) {
+      for (L2Counters* c : {&l2_.streams[static_cast<int>(r.stream)], &l2_.units[u]}) {
         c->accesses += accessed;
         c->hits += accessed - missed;
         c->misses += missed;

@@ -20,15 +20,21 @@
 
 namespace rtusim {
 
+// Hit, miss and byte counts at the L2, of one stream or one initiator.
+struct L2Counters {
+  uint64_t accesses = 0, hits = 0, misses = 0;
+  uint64_t bytes_in = 0;    // requested by the units (lines and bursts)
+  uint64_t dram_bytes = 0;  // read from DRAM for its misses
+};
+
+// The L2's counts per stream and per unit (what the chip's l2.* and units.<i>.l2.* keys say).
+struct ChipL2Counts {
+  std::array<L2Counters, 3> streams{};  // by Stream
+  std::vector<L2Counters> units;
+};
+
 class ChipCaches {
  public:
-  // Hit, miss and byte counts of one initiator at the L2.
-  struct L2Counters {
-    uint64_t accesses = 0, hits = 0, misses = 0;
-    uint64_t bytes_in = 0;  // requested by the units (lines and bursts)
-    uint64_t dram_bytes = 0;  // read from DRAM for its misses
-  };
-
   // `pixels`: the frame's, for the DRAM bytes charged to each. Throws InputError on bad params.
   ChipCaches(const FetchCacheParams& unit_caches, const ChipParams& chip, uint32_t pixels);
   ChipCaches(const ChipCaches&) = delete;  // the units' caches log into their own vectors
@@ -38,7 +44,7 @@ class ChipCaches {
   // Unit `u`'s private caches: traverse its rays through them.
   FetchCache& unit(uint32_t u) { return units_[u].caches; }
   const FetchCache& unit(uint32_t u) const { return units_[u].caches; }
-  bool has_l2() const { return l2_.has_value(); }
+  bool has_l2() const { return l2_cache_.has_value(); }
 
   // Ends a ray that unit `u` traced: what it caused is charged to `pixel` (its DRAM bytes, with
   // an L2 when the L2 takes its requests).
@@ -48,14 +54,17 @@ class ChipCaches {
   // Sends the L2 every request: the frame is over.
   void drain_all() { drain(true); }
 
-  // Calls `f` with each request the L2 takes, in its order (`rtusim trace --level l2`).
-  void observe_l2(std::function<void(const NextLevelRequest&)> f) { l2_observer_ = std::move(f); }
+  // Calls f(request, unit) for each request the L2 takes, in its order (`rtusim trace --level
+  // l2`, the L2 sweep).
+  using L2Observer = std::function<void(const NextLevelRequest&, uint32_t)>;
+  void observe_l2(L2Observer f) { l2_observer_ = std::move(f); }
 
   uint64_t rays(uint32_t u) const { return units_[u].rays; }
   // The L2's counts per stream (dram_bytes: what it read from DRAM) and per unit.
-  const std::array<L2Counters, FetchCache::kStreams>& l2_streams() const { return l2_streams_; }
-  const L2Counters& l2_unit(uint32_t u) const { return units_[u].l2; }
-  const SetAssocCache* l2() const { return l2_ ? &*l2_ : nullptr; }
+  const ChipL2Counts& l2_counts() const { return l2_; }
+  const std::array<L2Counters, FetchCache::kStreams>& l2_streams() const { return l2_.streams; }
+  const L2Counters& l2_unit(uint32_t u) const { return l2_.units[u]; }
+  const SetAssocCache* l2() const { return l2_cache_ ? &*l2_cache_ : nullptr; }
   // The units' counters, stream by stream, added up.
   FetchCache::Counters total_counters() const;
   // DRAM bytes (all streams) caused by each pixel's rays.
@@ -69,16 +78,15 @@ class ChipCaches {
     size_t ray_first = 0;        // pending index of the current ray's first request
     uint64_t ray_dram_from = 0;  // without an L2: DRAM bytes when the current ray began
     uint64_t rays = 0;
-    L2Counters l2;
   };
   void drain(bool all);
   void charge(uint32_t pixel, uint64_t bytes);
 
   std::vector<Unit> units_;
-  std::optional<SetAssocCache> l2_;
-  std::array<L2Counters, FetchCache::kStreams> l2_streams_{};
+  std::optional<SetAssocCache> l2_cache_;
+  ChipL2Counts l2_;
   std::vector<uint64_t> pixel_dram_bytes_;
-  std::function<void(const NextLevelRequest&)> l2_observer_;
+  L2Observer l2_observer_;
 };
 
 }  // namespace rtusim

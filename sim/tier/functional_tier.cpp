@@ -75,7 +75,7 @@ FunctionalTier::FunctionalTier(const MemoryImage& image, const TierConfig& confi
 }
 
 void FunctionalTier::write_stats(Stats& stats) const {
-  if (chip_) return write_chip_stats(chip_->chip(), stats);
+  if (chip_) return write_chip_stats(chip_->chip(), chip_->chip().l2_counts(), stats);
   const FunctionalBackend& b = *backend_;
   const FetchCache& c = b.caches();
   write_stats(c.counters(), c.data_cache() != nullptr, stats);
@@ -88,7 +88,8 @@ void FunctionalTier::write_stats(Stats& stats) const {
   }
 }
 
-void FunctionalTier::write_chip_stats(const ChipCaches& chip, Stats& stats) const {
+void FunctionalTier::write_chip_stats(const ChipCaches& chip, const ChipL2Counts& l2,
+                                      Stats& stats) {
   const bool data_cache_on = chip.unit(0).data_cache() != nullptr;
   // The units' sums under the one-unit keys; with an L2 their DRAM bytes are the L2's input.
   write_stats(chip.total_counters(), data_cache_on, stats);
@@ -101,30 +102,29 @@ void FunctionalTier::write_chip_stats(const ChipCaches& chip, Stats& stats) cons
       if (!chip.has_l2() || !key.starts_with("dram.")) stats.set(prefix + key, value);
     stats.set(prefix + "rays.total", chip.rays(u));
     if (chip.has_l2()) {
-      const ChipCaches::L2Counters& l2 = chip.l2_unit(u);
-      stats.set(prefix + "l2.accesses", l2.accesses);
-      stats.set(prefix + "l2.hits", l2.hits);
-      stats.set(prefix + "l2.misses", l2.misses);
-      stats.set(prefix + "l2.bytes.in", l2.bytes_in);
-      stats.set(prefix + "dram.bytes.total", l2.dram_bytes);
+      const L2Counters& c = l2.units[u];
+      stats.set(prefix + "l2.accesses", c.accesses);
+      stats.set(prefix + "l2.hits", c.hits);
+      stats.set(prefix + "l2.misses", c.misses);
+      stats.set(prefix + "l2.bytes.in", c.bytes_in);
+      stats.set(prefix + "dram.bytes.total", c.dram_bytes);
     }
   }
   if (!chip.has_l2()) return;
   // The L2: its input per stream, and DRAM's bytes are what it read.
-  ChipCaches::L2Counters all;
-  uint64_t dram_total = 0;
+  L2Counters all;
   for (int s = 0; s < FetchCache::kStreams; ++s) {
-    const ChipCaches::L2Counters& c = chip.l2_streams()[s];
+    const L2Counters& c = l2.streams[s];
     all.accesses += c.accesses;
     all.hits += c.hits;
     all.misses += c.misses;
     all.bytes_in += c.bytes_in;
+    all.dram_bytes += c.dram_bytes;
     const std::string stem = stream_stats_name(static_cast<Stream>(s));
     stats.set("l2.bytes.in." + stem, c.bytes_in);
     stats.set("dram.bytes." + stem, c.dram_bytes);
-    dram_total += c.dram_bytes;
   }
-  stats.set("dram.bytes.total", dram_total);
+  stats.set("dram.bytes.total", all.dram_bytes);
   stats.set("l2.accesses", all.accesses);
   stats.set("l2.hits", all.hits);
   stats.set("l2.misses", all.misses);

@@ -33,13 +33,14 @@ class FunctionalTier final : public TierRun {
   void write_stats(Stats& stats) const override;
   // The same keys from the streams' counters (what a cache sweep has for each of its points).
   static void write_stats(const FetchCache::Counters& counters, bool data_cache_on, Stats& stats);
+  // The same keys on a chip, its L2's counts `l2` (the chip's own, or a sweep's for another L2
+  // over the same requests).
+  static void write_chip_stats(const ChipCaches& chip, const ChipL2Counts& l2, Stats& stats);
   std::vector<uint64_t> pixel_dram_bytes() const override {
     return chip_ ? chip_->chip().pixel_dram_bytes() : backend_->pixel_dram_bytes();
   }
 
  private:
-  void write_chip_stats(const ChipCaches& chip, Stats& stats) const;
-
   std::unique_ptr<FunctionalBackend> backend_;   // one unit, no L2
   std::unique_ptr<ChipFunctionalBackend> chip_;  // else
 };

@@ -6,8 +6,9 @@
 #   misses that a plain Python LRU computes from the node-fetch trace, line by line in order;
 # - an L2 changes nothing before it (l1.*, traversal.*), and what the L1s send it is what they
 #   sent DRAM without it; the units' counts add up to the totals and to the one-unit fetches;
-# - the same stats for --threads 1 and 2; sweep points over chip.units and l2.size equal their
-#   runs; a chip where it is not modelled, and --level l2 misused, exit 2 with one line.
+# - the same stats for --threads 1 and 2; sweep points over chip.units and l2.* equal their runs
+#   (an LRU L2's sizes and ways in one pass); a chip where it is not modelled, and --level l2
+#   misused, exit 2 with one line.
 set -uo pipefail
 rtusim=$1; src=$2
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
@@ -110,7 +111,9 @@ assert {k for k in a if not timing(k)} == {k for k in b if not timing(k)}
 assert all(a[k] == b[k] for k in a if not timing(k)), [k for k in a if not timing(k) and a[k] != b[k]]
 PY
 
-# 4. Sweep points over chip.units and l2.size equal their runs.
+# 4. Sweep points equal their runs: chip.units and l2.size; and an L1 x L2 product whose LRU L2s
+# (every size and ways, "full" included) come from one pass per L1 point, both distributions,
+# beside a tree-PLRU L2 that runs alone.
 cat > "$tmp/sweep.toml" <<'TOML'
 [image]
 width = 32
@@ -125,6 +128,38 @@ TOML
 "$rtusim" sweep "$tmp/sweep.toml" --out "$tmp/sweep" --no-plots > /dev/null || bad "chip sweep"
 "$py" "$src/tests/cli/sweep_check.py" "$rtusim" "$tmp/sweep" 1 chip.units,l2.size && ok ||
   bad "chip sweep differs from rtusim run"
+cat > "$tmp/l2sweep.toml" <<'TOML'
+[image]
+width = 32
+height = 32
+png = false
+[tracer]
+ray_order = "wavefront"
+[chip]
+units = 3
+[l2]
+enable = true
+line = 128
+[sweep]
+layout.kind = ["dfl", "odfl"]
+l1.size = [2048, 8192]
+l2.size = [8192, 65536]
+l2.assoc = [1, 4, "full"]
+l2.policy = ["lru", "tree-plru"]
+chip.distribution = ["tiles", "batches"]
+TOML
+"$rtusim" sweep "$tmp/l2sweep.toml" --out "$tmp/l2sweep" --no-plots > /dev/null || bad "L2 sweep"
+# Jobs: per distribution and L1 point one LRU family (12 points); each tree-PLRU point alone.
+"$py" - "$tmp/l2sweep/timings.csv" <<'PY' && ok || bad "L2 sweep: not one job per LRU family"
+import csv, sys
+jobs = list(csv.DictReader(open(sys.argv[1])))
+families = [j for j in jobs if j["alone"] == "0"]
+assert len(families) == 4 and all(j["points"] == "12" for j in families), jobs
+assert sum(j["alone"] == "1" for j in jobs) == 48, len(jobs)
+PY
+cols=$(head -1 "$tmp/l2sweep/results.csv" | cut -d, -f1-6)
+"$py" "$src/tests/cli/sweep_check.py" "$rtusim" "$tmp/l2sweep" 3 "$cols" && ok ||
+  bad "L2 sweep differs from rtusim run"
 
 # 5. scripts/chip_table.py: its table holds the runs' figures (the built-in room, 32x32).
 if [ -x "$src/.venv/bin/python" ]; then
