@@ -18,9 +18,6 @@ namespace {
 // Stats keys of `rtusim run` itself.
 const StatDecl kRunSeconds("run.seconds", StatKind::kTiming, "s",
                            "wall time of the whole run");
-}  // namespace
-
-namespace {
 
 void print_summary(const RunOptions& opts, const std::string& out_dir, const Prepared& p,
                    const SimulationResult& r) {

@@ -26,9 +26,6 @@ const StatDecl kDramStreamBytes("dram.bytes.<stream>", StatKind::kCounter, "byte
                                 "bytes of the stream read from DRAM");
 const StatDecl kDramBytes("dram.bytes.total", StatKind::kCounter, "bytes",
                           "bytes read from DRAM, all streams");
-}  // namespace
-
-namespace {
 
 SetAssocCache make_cache(const CacheParams& p, const std::string& key_prefix) {
   validate(p, key_prefix);

@@ -86,14 +86,14 @@ class FetchCache {
     if (bytes == 0) return 0;
     if (s == Stream::kNode) return count(s, c, node_l1_, addr, bytes);
     if (data_cache_) return count(s, c, *data_cache_, addr, bytes);
-    return count_to_dram(c, addr, bytes);
+    return count_to_dram(s, c, addr, bytes);
   }
   // fetch() of `bytes` (> 0) on a list or triangle stream when there is no data cache
   // (data_cache() is nullptr): straight to DRAM, in its bursts.
   uint64_t fetch_to_dram(Stream s, uint64_t addr, uint32_t bytes) {
     StreamCounters& c = counters_[static_cast<int>(s)];
     ++c.fetches;
-    return count_to_dram(c, addr, bytes);
+    return count_to_dram(s, c, addr, bytes);
   }
 
   // Counts what a replay log counted instead of logging (tracer/fetch_log.h): `n` node fetches
@@ -201,13 +201,13 @@ class FetchCache {
     c.misses += bursts;
     c.dram_bytes += bursts * burst_bytes_;
   }
-  // Counts one fetch of `bytes` (> 0) at `addr` read straight from DRAM; returns its DRAM bytes.
-  uint64_t count_to_dram(StreamCounters& c, uint64_t addr, uint32_t bytes) {
+  // Counts one fetch of `bytes` (> 0) at `addr` on stream `s` (counters `c`) read straight
+  // from DRAM; returns its DRAM bytes.
+  uint64_t count_to_dram(Stream s, StreamCounters& c, uint64_t addr, uint32_t bytes) {
     const uint64_t bursts = dram_bursts(addr, bytes, burst_bytes_);
     add_dram_bursts(c, bursts);
     if (log_) [[unlikely]] {
       const uint64_t first = addr / burst_bytes_ * burst_bytes_;
-      const Stream s = static_cast<Stream>(&c - counters_.data());
       for (uint64_t b = 0; b < bursts; ++b) log_request(s, first + b * burst_bytes_, burst_bytes_);
     }
     return bursts * burst_bytes_;

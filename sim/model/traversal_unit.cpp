@@ -30,9 +30,7 @@ const StatDecl kUnitEvents("unit.events", StatKind::kCounter, "events",
                            "simulator effort: unit events processed");
 const StatDecl kUnitKernelWaits("unit.kernel_waits", StatKind::kCounter, "waits",
                                 "simulator effort: SystemC waits (memory-horizon syncs)");
-}  // namespace
 
-namespace {
 const UnitParams& checked(const UnitParams& p) {
   validate(p);
   return p;

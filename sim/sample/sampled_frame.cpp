@@ -26,17 +26,17 @@ const StatDecl kRaysWarmed("sample.rays_warmed", StatKind::kProperty, "rays",
 const StatDecl kRaysSimulatedPerSecond("sample.rays_simulated_per_second", StatKind::kTiming,
                                        "rays/s", "sampled rays per second of wall time");
 const StatDecl kMethod("sample.method", StatKind::kProperty, "",
-                       "sample.method");
+                       "the run's sample.method");
 const StatDecl kRate("sample.rate", StatKind::kProperty, "",
-                     "sample.rate");
+                     "the run's sample.rate");
 const StatDecl kSeed("sample.seed", StatKind::kProperty, "",
-                     "sample.seed");
+                     "the run's sample.seed");
 const StatDecl kWarmup("sample.warmup", StatKind::kProperty, "",
-                       "sample.warmup");
+                       "the run's sample.warmup");
 const StatDecl kEstimator("sample.estimator", StatKind::kProperty, "",
-                          "sample.estimator");
+                          "the run's sample.estimator");
 const StatDecl kTargetCi("sample.target_ci", StatKind::kProperty, "",
-                         "sample.target_ci");
+                         "the run's sample.target_ci");
 const StatDecl kUnits("sample.units", StatKind::kProperty, "units",
                       "units simulated");
 const StatDecl kUnitsTotal("sample.units_total", StatKind::kProperty, "units",
@@ -55,9 +55,6 @@ const StatDecl kTargetMet("sample.target_met", StatKind::kProperty, "",
                           "sample.target_ci was met");
 const StatDecl kPerGeneration("sample.per_generation", StatKind::kProperty, "",
                               "units sampled per generation (wavefront)");
-}  // namespace
-
-namespace {
 
 const char* const kRayKeys[kRayKinds] = {"rays.primary", "rays.shadow", "rays.reflection",
                                          "rays.refraction"};

@@ -29,9 +29,7 @@ const StatDecl kL2StreamBytesIn("l2.bytes.in.<stream>", StatKind::kCounter, "byt
                                 "l2.bytes.in of the stream");
 const StatDecl kL2MissRate("l2.miss_rate", StatKind::kRatio, "",
                            "l2.misses / l2.accesses");
-}  // namespace
 
-namespace {
 const FunctionalParams kFunctional;
 const IntParam kRaysInFlight("functional.rays_in_flight", kFunctional.rays_in_flight, 1, 1 << 16,
                              "rays",
