@@ -15,8 +15,12 @@ i=0
 while read -r args; do
   i=$((i+1))
   # shellcheck disable=SC2086
-  eval "\"$rtusim\" run \"$cfg\" \"\${small[@]}\" $args --out \"$tmp/run$i\"" > /dev/null 2>&1 ||
-    { echo "FAIL run $args"; fail=1; }
+  if ! eval "\"$rtusim\" run \"$cfg\" \"\${small[@]}\" $args --out \"$tmp/run$i\"" \
+      > /dev/null 2> "$tmp/err"; then
+    # A build without the RTL L1 (the sanitizer job's) cannot run the rtl tier.
+    if grep -q "built without the RTL" "$tmp/err"; then echo "note: no rtl tier in this build"
+    else echo "FAIL run $args: $(cat "$tmp/err")"; fail=1; fi
+  fi
 done <<'RUNS'
 --set "layout.kind=[\"dfl\",\"odfl\"]"
 --set functional.rays_in_flight=8
@@ -54,7 +58,7 @@ def find(key):
         if k and k["kind"] == "counter": return k
     return None
 runs = sorted(glob.glob(f"{d}/run*/stats.json"))
-assert len(runs) == 10, runs
+assert len(runs) >= 9, runs
 missing = set()
 seen = set()
 for f in runs:
