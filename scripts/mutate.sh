@@ -87,7 +87,7 @@ for n in "${names[@]}"; do
   patch=$src/tests/mutations/$n.patch
   what=$(sed -n 's/^# mutation: //p' "$patch")
   regex=""; $all || regex=$(regex_of "$n")
-  scope=$($all && echo "all" || echo "subset: \`$regex\`")
+  scope=$($all && echo "all" || echo "subset: \`${regex//|/\\|}\`")  # | escaped for the table
   git -C "$scratch" checkout -q -- . && git -C "$scratch" apply "$patch" ||
     { echo "mutate: $n does not apply" >&2; table+=$'\n'"| $what | $scope | does not apply | |"; continue; }
   echo "mutate: $n: building" >&2
