@@ -12,10 +12,10 @@
 #   --scratch    the scratch clone (default: rtusim-mutate beside this checkout, so that its
 #                ../shared/scenes is this one's); an existing one is reset
 #                to this checkout's HEAD and its build reused, so a rerun builds incrementally
-# The clone is built without the RTL (-DRTUSIM_BUILD_RTL=OFF: no mutation touches it, and the
-# Verilator builds are most of a full build). Before the mutations, the same tests must pass on
-# the unmutated clone, else a "caught" would mean nothing. The table (markdown) goes to stdout
-# and to SCRATCH/mutations.md.
+# The subsets are built without the RTL (-DRTUSIM_BUILD_RTL=OFF: no mutation touches it, and
+# the Verilator builds are most of a full build); --all builds it. Before the mutations, the
+# same tests must pass on the unmutated clone, else a "caught" would mean nothing. The table
+# (markdown) goes to stdout and to SCRATCH/mutations.md.
 set -uo pipefail
 src=$(git -C "$(dirname "$0")/.." rev-parse --show-toplevel)
 scratch=$(dirname "$src")/rtusim-mutate
@@ -49,10 +49,10 @@ git -C "$scratch" fetch -q "$src" HEAD && git -C "$scratch" checkout -q --force 
 mkdir -p "$log"
 echo "mutate: scratch clone $scratch at $(git -C "$scratch" rev-parse --short HEAD)" >&2
 
+rtl=$($all && echo ON || echo OFF)  # the whole suite has RTL tests (cli.rtl_tier among them)
 rebuild() {
-  [ -f "$build/build.ninja" ] ||
-    cmake -S "$scratch" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DRTUSIM_BUILD_RTL=OFF \
-      > "$log/configure.txt" 2>&1 || return 1
+  cmake -S "$scratch" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DRTUSIM_BUILD_RTL=$rtl \
+    > "$log/configure.txt" 2>&1 || return 1
   nice -n 10 cmake --build "$build" -j2 > "$1" 2>&1
 }
 
