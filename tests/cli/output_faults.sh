@@ -44,20 +44,32 @@ if [ $rc -eq 2 ] && grep -q "cannot write" "$tmp/err" && [ ! -e "$tmp/t.din" ] &
 else bad "full_disk_trace: exit $rc, $(cat "$tmp/err")"; fi
 
 # Killed at spread-out moments: all or nothing, never a staging directory or temporary file.
+# The kills must not all land after the run ended (a 96x96 frame took 0.09 s, so every kill
+# from 0.1 s on found a finished run): the frame is 384x384 (about 0.6 s), and per signal some
+# kill at 0.1 s or later (the process long started) must stop a running rtusim, which then dies
+# of the signal (exit 128 + its number) leaving no output.
 complete() { [ -s "$1/stats.json" ] && [ -s "$1/config.toml" ] && [ -s "$1/image.png" ]; }
 for sig in INT TERM; do
-  for delay in 0 0.02 0.05 0.1 0.2 0.4 0.8 1.5; do
+  signum=$(kill -l "$sig"); interrupted=0; finished=0
+  for delay in 0 0.02 0.05 0.1 0.2 0.4 0.8 1.5 3; do
     o="$tmp/k_${sig}_$delay"
-    "$rtusim" run "$D" --set image.width=96 --set image.height=96 --out "$o" > /dev/null 2>&1 &
+    "$rtusim" run "$D" --set image.width=384 --set image.height=384 --out "$o" > /dev/null 2>&1 &
     pid=$!
-    sleep "$delay"; kill -s "$sig" "$pid" 2>/dev/null; wait "$pid"
+    sleep "$delay"; kill -s "$sig" "$pid" 2>/dev/null; wait "$pid"; rc=$?
     if { [ ! -e "$o" ] || complete "$o"; } && [ -z "$(staging)" ]; then ok
     else bad "kill_${sig}_$delay: $(ls -A "$o" 2>/dev/null) $(staging)"; fi
+    if [ $rc -eq $((128 + signum)) ] && [ ! -e "$o" ] && awk -v d="$delay" 'BEGIN { exit !(d >= 0.1) }'; then
+      interrupted=$((interrupted+1))
+    fi
+    [ $rc -eq 0 ] && complete "$o" && finished=$((finished+1))
   done
-  # The same for a single-file output.
-  "$rtusim" trace "$D" --set image.width=96 --set image.height=96 --out "$tmp/k.din" > /dev/null 2>&1 &
-  pid=$!; sleep 0.2; kill -s "$sig" "$pid" 2>/dev/null; wait "$pid"
-  if [ -z "$(staging)" ]; then ok; else bad "kill_trace_$sig: $(staging)"; fi
+  [ $interrupted -ge 1 ] && ok || bad "kill_$sig: no kill at 0.1 s or later stopped a running rtusim"
+  echo "kill_$sig: $interrupted runs stopped from 0.1 s on, $finished finished before their kill"
+  # The same for a single-file output: stopped while writing, nothing left.
+  "$rtusim" trace "$D" --set image.width=384 --set image.height=384 --out "$tmp/k.din" > /dev/null 2>&1 &
+  pid=$!; sleep 0.2; kill -s "$sig" "$pid" 2>/dev/null; wait "$pid"; rc=$?
+  if [ -z "$(staging)" ] && { [ $rc -eq 0 ] || [ ! -e "$tmp/k.din" ]; }; then ok
+  else bad "kill_trace_$sig: exit $rc, $(staging)"; fi
   rm -f "$tmp/k.din"
 done
 

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# Sampled runs end to end: every extensive figure gets a whole-frame estimate inside its 95% CI,
-# the paired ODFL-DFL difference has its own CI, too few units is said on stderr and in the
-# stats, bad sample keys are input errors; the interleaved mode with one ray in flight is the
+# Sampled runs end to end: every extensive figure gets a whole-frame estimate whose 95% CI holds
+# the full run's figure and is not wide, the paired ODFL-DFL difference has its own CI, which
+# holds the full run's difference, excludes 0 and is far narrower than the unpaired one, too few
+# units is said on stderr and in the stats, bad sample keys are input errors; the interleaved mode with one ray in flight is the
 # functional tier, and with 32 in wavefront order it moves different node bytes.
 set -euo pipefail
 rtusim=$1; src=$2
@@ -10,25 +11,37 @@ common=(--set image.width=64 --set image.height=64 --set 'layout.kind=["dfl","od
 "$rtusim" run "$src/configs/default.toml" "${common[@]}" --set sample.rate=0.5 --set sample.unit_pixels=8 \
   --out "$tmp/s" > /dev/null 2> "$tmp/s.err"
 "$rtusim" run "$src/configs/default.toml" "${common[@]}" --set sample.rate=0.02 --out "$tmp/few" > /dev/null 2> "$tmp/few.err"
+"$rtusim" run "$src/configs/default.toml" "${common[@]}" --out "$tmp/full" > /dev/null
 grep -q "sample: .* units < sample.min_units = 30: the 95% confidence intervals are not valid" "$tmp/few.err"
 [ ! -s "$tmp/s.err" ]
-python3 - "$tmp/s/stats.json" "$tmp/few/stats.json" <<'PY'
-import json, sys
-s, few = (json.load(open(p)) for p in sys.argv[1:3])
+python3 - "$tmp/s/stats.json" "$tmp/few/stats.json" "$tmp/full/stats.json" <<'PY'
+import json, math, sys
+s, few, full = (json.load(open(p)) for p in sys.argv[1:4])
+# Half the frame (seed 1): each CI holds the full run's figure, its half-width within 30% of it
+# (19% for node bytes: the mirror and the glass sphere make a heavy tail).
 for k in ["rays.total", "dram.bytes.nodes", "dram.bytes.total", "l1.misses", "layout.odfl.dram.bytes.nodes"]:
-    assert s[k + ".ci95_low"] <= s[k] <= s[k + ".ci95_high"], k
+    assert s[k + ".ci95_low"] <= full[k] <= s[k + ".ci95_high"], (k, s[k + ".ci95_low"], full[k], s[k + ".ci95_high"])
+    assert s[k + ".ci95_high"] - s[k] < 0.3 * full[k], (k, s[k], s[k + ".ci95_high"])
 d = "sample.diff.odfl-dfl.dram.bytes.nodes"
 assert abs(s[d] - (s["layout.odfl.dram.bytes.nodes"] - s["layout.dfl.dram.bytes.nodes"])) < 1e-6 * s["dram.bytes.nodes"]
-assert s[d + ".ci95_low"] <= s[d] <= s[d + ".ci95_high"]
+# The paired CI holds the full run's difference and not 0 (ODFL moves fewer node bytes), and is
+# far narrower than the unpaired sqrt(hw_dfl^2 + hw_odfl^2).
+true_d = full["layout.odfl.dram.bytes.nodes"] - full["layout.dfl.dram.bytes.nodes"]
+assert s[d + ".ci95_low"] <= true_d <= s[d + ".ci95_high"], (s[d + ".ci95_low"], true_d, s[d + ".ci95_high"])
+assert s[d + ".ci95_high"] < 0, (d, s[d + ".ci95_high"])
+hw = lambda k: s[k + ".ci95_high"] - s[k]
+unpaired = math.hypot(hw("layout.dfl.dram.bytes.nodes"), hw("layout.odfl.dram.bytes.nodes"))
+assert hw(d) < unpaired / 2, (hw(d), unpaired)
 assert s["sample.units"] == 256 and s["sample.units_total"] == 512 and s["sample.ci_valid"] is True
 assert abs(s["sample.fraction"] - 0.5) < 1e-9
 assert few["sample.ci_valid"] is False and "min_units" in few["sample.problem"]
 PY
 # Wavefront order: the whole frame is traced per generation (its image and ray counts are the full
-# run's) and only the drawn units' rays are measured; nothing to warn about.
+# run's) and only the drawn units' rays are measured; nothing to warn about. Seed 2: seed 1's
+# paired CI is one of the 1 in 20 that miss (by 2%; 28 of seeds 1-30 hold the difference).
 "$rtusim" run "$src/configs/default.toml" "${common[@]}" --set tracer.ray_order=wavefront --out "$tmp/wffull" > /dev/null
 "$rtusim" run "$src/configs/default.toml" "${common[@]}" --set sample.rate=0.5 --set tracer.ray_order=wavefront \
-  --out "$tmp/wf" > /dev/null 2> "$tmp/wf.err"
+  --set sample.seed=2 --out "$tmp/wf" > /dev/null 2> "$tmp/wf.err"
 [ ! -s "$tmp/wf.err" ]
 cmp "$tmp/wffull/image.png" "$tmp/wf/image.png"
 python3 - "$tmp/s/stats.json" "$tmp/wf/stats.json" "$tmp/wffull/stats.json" <<'PY'
@@ -37,8 +50,11 @@ s, wf, full = (json.load(open(p)) for p in sys.argv[1:4])
 assert s["sample.per_generation"] is False and wf["sample.per_generation"] is True
 for k in ["rays.total", "rays.shadow", "rays.reflection"]:
     assert wf[k] == wf[k + ".ci95_low"] == wf[k + ".ci95_high"] == full[k], k
-for k in ["dram.bytes.nodes", "layout.odfl.dram.bytes.nodes", "sample.diff.odfl-dfl.dram.bytes.nodes"]:
-    assert wf[k + ".ci95_low"] <= wf[k] <= wf[k + ".ci95_high"], k
+for k in ["dram.bytes.nodes", "layout.odfl.dram.bytes.nodes"]:
+    assert wf[k + ".ci95_low"] <= full[k] <= wf[k + ".ci95_high"], k
+d = "sample.diff.odfl-dfl.dram.bytes.nodes"
+true_d = full["layout.odfl.dram.bytes.nodes"] - full["layout.dfl.dram.bytes.nodes"]
+assert wf[d + ".ci95_low"] <= true_d <= wf[d + ".ci95_high"] < 0, (wf[d + ".ci95_low"], true_d, wf[d + ".ci95_high"])
 assert 0 < wf["sample.rays_simulated"] < full["rays.total"]
 PY
 # Every unit in one round: each batch goes through the tier whole, in the full run's order, so the
@@ -91,9 +107,10 @@ assert 0.5 < part["estimate.cycles"] / full["estimate.cycles"] < 2.0
 PY
 # The ratio estimator (wavefront order): node bytes per ray of the drawn units x the frame's rays;
 # rays.* exact; the paired difference is the difference of the two estimates (same units, same
-# rays); every unit gives the full run's figures.
+# rays); every unit gives the full run's figures. Seed 2 as above (seed 1's CIs, 15% high, miss the
+# full run by 1%); the CIs hold the full run's figures and difference.
 "$rtusim" run "$src/configs/default.toml" "${common[@]}" --set sample.rate=0.5 --set tracer.ray_order=wavefront \
-  --set sample.estimator=ratio --out "$tmp/wfr" > /dev/null
+  --set sample.estimator=ratio --set sample.seed=2 --out "$tmp/wfr" > /dev/null
 "$rtusim" run "$src/configs/default.toml" "${common[@]}" --set sample.rate=0.9999 --set tracer.ray_order=wavefront \
   --set sample.estimator=ratio --out "$tmp/wfrall" > /dev/null
 python3 - "$tmp/wfr/stats.json" "$tmp/wfrall/stats.json" "$tmp/wffull/stats.json" "$tmp/wf/stats.json" <<'PY'
@@ -103,8 +120,10 @@ assert r["sample.estimator"] == "ratio" and mean["sample.estimator"] == "mean"
 assert r["rays.total"] == full["rays.total"]
 d = "sample.diff.odfl-dfl.dram.bytes.nodes"
 assert abs(r[d] - (r["layout.odfl.dram.bytes.nodes"] - r["layout.dfl.dram.bytes.nodes"])) < 1e-6 * r["dram.bytes.nodes"]
-for k in ["dram.bytes.nodes", "layout.odfl.dram.bytes.nodes", d]:
-    assert r[k + ".ci95_low"] <= r[k] <= r[k + ".ci95_high"], k
+for k in ["dram.bytes.nodes", "layout.odfl.dram.bytes.nodes"]:
+    assert r[k + ".ci95_low"] <= full[k] <= r[k + ".ci95_high"], k
+true_d = full["layout.odfl.dram.bytes.nodes"] - full["layout.dfl.dram.bytes.nodes"]
+assert r[d + ".ci95_low"] <= true_d <= r[d + ".ci95_high"] < 0, (r[d + ".ci95_low"], true_d, r[d + ".ci95_high"])
 assert r["dram.bytes.nodes"] != mean["dram.bytes.nodes"]
 for k in ["dram.bytes.nodes", "l1.misses", "layout.odfl.dram.bytes.nodes"]:
     assert abs(rall[k] - full[k]) <= 1e-9 * full[k], (k, rall[k], full[k])
@@ -146,11 +165,12 @@ if "$rtusim" run "$src/configs/default.toml" "${c[@]}" --set tracer.ray_order=wa
   echo "FAIL: target_key rays.bogus accepted"; exit 1
 fi
 grep -q "sample.target_key: 'rays.bogus'" "$tmp/bogus.err"; [ ! -e "$tmp/bogus" ]
-python3 - "$tmp/cyc/stats.json" "$tmp/uneq/stats.json" "$tmp/fpc/stats.json" <<'PY'
+"$rtusim" run "$src/configs/default.toml" "${c[@]}" --set sim.tier=cycle --out "$tmp/cycfull" > /dev/null 2>&1
+python3 - "$tmp/cyc/stats.json" "$tmp/uneq/stats.json" "$tmp/fpc/stats.json" "$tmp/cycfull/stats.json" "$tmp/full/stats.json" <<'PY'
 import json, sys
-c, u, f = (json.load(open(p)) for p in sys.argv[1:4])
+c, u, f, cfull, full = (json.load(open(p)) for p in sys.argv[1:6])
 for k in ("unit.rays", "unit.steps", "unit.isect_tests", "dram.requests", "dram.row_hits"):
-    assert c[k + ".ci95_low"] <= c[k] <= c[k + ".ci95_high"], k
+    assert c[k + ".ci95_low"] <= cfull[k] <= c[k + ".ci95_high"], (k, c[k + ".ci95_low"], cfull[k], c[k + ".ci95_high"])
 # The unit's rays are the frame's rays (unit.rays was the raw count: 8338 against 13368).
 assert abs(c["unit.rays"] / c["rays.total"] - 1) < 1e-9, (c["unit.rays"], c["rays.total"])
 assert abs(c["unit.utilisation"] - c["unit.steps"] / c["sim.cycles"]) < 1e-12
@@ -160,7 +180,7 @@ assert u["rays.primary"] == 64 * 64 == u["rays.primary.ci95_low"] == u["rays.pri
 # rays.total is the pixels plus the other rays' estimate: it holds its kinds' sum.
 kinds = sum(u[f"rays.{k}"] for k in ("primary", "shadow", "reflection", "refraction"))
 assert abs(u["rays.total"] - kinds) < 1e-6 * kinds, (u["rays.total"], kinds)
-assert u["rays.total.ci95_low"] <= u["rays.total"] <= u["rays.total.ci95_high"]
+assert u["rays.total.ci95_low"] <= full["rays.total"] <= u["rays.total.ci95_high"]
 assert f["sample.units"] < 300, f"target rounds overshoot: {f['sample.units']} of 512 units for 0.2"
 assert f["sample.target_met"] is True
 PY

@@ -62,7 +62,8 @@ for path in sys.argv[1:3]:
     assert len(times) > 10 and times == sorted(times), "times increase"
     # The last value of `steps` is the run's step count (32 rays in flight is the default).
     last_steps = [l for l in text.splitlines() if l.endswith(' "')][-1]
-    kind = "dfl" if "dfl" in path else "odfl"
+    kind = path.rsplit("_", 1)[1].removesuffix(".vcd")  # unit_<kind>.vcd ("dfl" is in "odfl")
+    assert kind in ("dfl", "odfl"), path
     assert int(last_steps[1:].split()[0], 2) == stats[f"layout.{kind}.traversal.node_fetches"]
 PY
 echo "tier_consistency: 1 passed, 0 failed"

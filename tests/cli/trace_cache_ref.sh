@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The C++ cache model against an independent one: a din trace exported by `rtusim trace`, replayed
 # through tests/cache_ref.py (plain Python), gives exactly the l1.misses of `rtusim run` and the
-# misses of `rtusim replay` of that trace, for lru, fifo and tree-plru, two geometries
+# misses of `rtusim replay` of that trace, for lru, fifo, tree-plru and random, two geometries
 # (8K/4-way/64B and 4K/2-way/32B), dfl and odfl (8-byte nodes never straddle a line, so one
 # fetch is one line access).
 set -uo pipefail
@@ -16,9 +16,9 @@ for layout in dfl odfl; do
     { echo "FAIL trace $layout"; fail=$((fail+1)); continue; }
   for geom in "8192 4 64" "4096 2 32"; do
     read -r size assoc line <<< "$geom"
-    python3 "$src/tests/cache_ref.py" "$tmp/$layout.din" $size $assoc $line lru,fifo,tree-plru > "$tmp/ref.txt" ||
+    python3 "$src/tests/cache_ref.py" "$tmp/$layout.din" $size $assoc $line lru,fifo,tree-plru,random > "$tmp/ref.txt" ||
       { echo "FAIL cache_ref.py $layout $geom"; fail=$((fail+1)); continue; }
-    for policy in lru fifo tree-plru; do
+    for policy in lru fifo tree-plru random; do
       "$rtusim" run "$cfg" "${small[@]}" --set layout.kind=$layout --set l1.size=$size \
         --set l1.assoc=$assoc --set l1.line=$line --set l1.policy=$policy --out "$tmp/run" > /dev/null
       got=$(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['l1.misses'])" "$tmp/run/stats.json")

@@ -7,6 +7,8 @@
 // that succeeds).
 #include <gtest/gtest.h>
 
+#include "../skip_unless_ci.h"
+
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -209,7 +211,7 @@ class RtlAdapterTest : public testing::SystemCTest {
  protected:
   void SetUp() override {
     testing::SystemCTest::SetUp();
-    if (!rtl_node_l1_linked()) GTEST_SKIP() << "no RTL L1 linked";
+    if (!rtl_node_l1_linked()) RTUSIM_SKIP_UNLESS_CI("no RTL L1 linked");
   }
 };
 

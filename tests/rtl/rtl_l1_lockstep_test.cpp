@@ -101,7 +101,7 @@ TEST(RtlL1LockstepSanity, LruAndTreePlruDifferOnTheThrashTrace) {
   plru.policy = "tree-plru";
   const RtlL1Build* a = find_rtl_l1_build(lru);
   const RtlL1Build* b = find_rtl_l1_build(plru);
-  if (!a || !b) GTEST_SKIP() << "needs the 8192/4/64 lru and tree-plru builds";
+  if (!a || !b) RTUSIM_SKIP_UNLESS_CI("needs the 8192/4/64 lru and tree-plru builds");
   const auto trace = set_thrash_trace(1, 20000, 8192, 4, 64);
   std::vector<Outcome> oa, ob;
   make_cpp_model(std::string(a->model))->replay_blocking(trace, oa);

@@ -277,12 +277,12 @@ TEST(CacheTest, MatchesPythonReferenceModel) {
     uint64_t size;
     uint32_t assoc, line;
   };
-  const std::vector<std::string> policies = {"lru", "fifo", "tree-plru"};
+  const std::vector<std::string> policies = {"lru", "fifo", "tree-plru", "random"};
   for (const Geometry g : {Geometry{8192, 4, 64}, Geometry{4096, 2, 32}, Geometry{16384, 8, 64},
                            Geometry{1024, 1, 64}, Geometry{512, 8, 64}}) {
     const std::string command = "python3 '" + script.string() + "' '" + trace_path.string() +
                                 "' " + std::to_string(g.size) + " " + std::to_string(g.assoc) +
-                                " " + std::to_string(g.line) + " lru,fifo,tree-plru";
+                                " " + std::to_string(g.line) + " lru,fifo,tree-plru,random";
     std::map<std::string, uint64_t> expected;
     std::istringstream lines(run_capture(command));
     std::string name;

@@ -3,9 +3,12 @@
 // visits as DFL for every layout.
 #include <gtest/gtest.h>
 
+#include "../skip_unless_ci.h"
+
 #include <algorithm>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <map>
 #include <random>
@@ -102,6 +105,59 @@ TEST(VebLayout, SiblingsShareAUnitAndTheTopHalfComesFirst) {
     else first_bottom = std::min(first_bottom, unit);
   }
   EXPECT_LT(last_top, first_bottom);
+}
+
+// The placement rule itself, unit by unit, from a recursive reading of veb_layout.h written
+// here: a subtree of height h (in units) places its top floor(h/2) levels, then each subtree
+// hanging below them, left to right with below before above, with the heights that remain.
+// The unit of interior node i is the 16-byte pair of its children (unit 0 holds the root).
+std::vector<uint32_t> veb_units(const KdTree& tree) {
+  std::vector<uint32_t> unit(tree.nodes.size(), 0);
+  uint32_t next = 1;
+  const auto interior = [&](uint32_t i) { return !tree.nodes[i].is_leaf(); };
+  std::function<uint32_t(uint32_t)> height = [&](uint32_t i) -> uint32_t {
+    const KdNode& n = tree.nodes[i];
+    uint32_t h = 0;
+    for (const uint32_t c : {n.below, n.above})
+      if (interior(c)) h = std::max(h, height(c));
+    return h + 1;
+  };
+  // The interior nodes `depth` levels below i, below before above.
+  std::function<void(uint32_t, uint32_t, std::vector<uint32_t>&)> level =
+      [&](uint32_t i, uint32_t depth, std::vector<uint32_t>& out) {
+        if (depth == 0) return out.push_back(i);
+        for (const uint32_t c : {tree.nodes[i].below, tree.nodes[i].above})
+          if (interior(c)) level(c, depth - 1, out);
+      };
+  std::function<void(uint32_t, uint32_t)> place = [&](uint32_t root, uint32_t h) {
+    if (h == 1) {
+      unit[root] = next++;
+      return;
+    }
+    place(root, h / 2);
+    std::vector<uint32_t> bottom;
+    level(root, h / 2, bottom);
+    for (const uint32_t b : bottom) place(b, h - h / 2);
+  };
+  if (interior(0)) place(0, height(0));
+  return unit;
+}
+
+TEST(VebLayout, EveryUnitWhereTheRecursiveRulePutsIt) {
+  for (const uint32_t seed : {51u, 7u}) {
+    const testing::SoupTree f = soup(3000, 2, seed);
+    const MemoryImage image = VebLayout().build_image(f.tree, f.scene);
+    const std::vector<uint64_t> addr_of = addresses(image, f.tree);
+    const std::vector<uint32_t> want = veb_units(f.tree);
+    int mismatches = 0;
+    for (uint32_t i = 0; i < f.tree.nodes.size(); ++i) {
+      if (f.tree.nodes[i].is_leaf()) continue;
+      const uint64_t unit = (addr_of[f.tree.nodes[i].below] - image.nodes.base_addr) / 16;
+      mismatches += unit != want[i];
+      if (mismatches <= 3) EXPECT_EQ(unit, want[i]) << "seed " << seed << " node " << i;
+    }
+    EXPECT_EQ(mismatches, 0) << "seed " << seed;
+  }
 }
 
 TEST(ClusterLayout, NodesStayInBlocksBlocksAreFullAndTheFirstIsTheGreedyTreelet) {
@@ -218,7 +274,7 @@ struct VisitSink {
 TEST(LayoutsOnSharedScenes, SameHitsAndVisitsAsDfl) {
   namespace fs = std::filesystem;
   const std::string dir = RTUSIM_SCENES_DEFAULT;
-  if (!fs::is_directory(dir)) GTEST_SKIP() << "no scenes folder " << dir;
+  if (!fs::is_directory(dir)) RTUSIM_SKIP_UNLESS_CI("no scenes folder " + dir);
   for (const std::string name : {"box", "cornell_whitted"}) {
     SCOPED_TRACE(name);
     const Scene scene = load_gltf(dir + "/" + name + "/" + name + ".gltf");
@@ -280,7 +336,7 @@ TEST(LayoutsOnSharedScenes, SameHitsAndVisitsAsDfl) {
 TEST(LayoutsOnSharedScenes, SubtreeWithinTheMemoryAim) {
   namespace fs = std::filesystem;
   const std::string dir = RTUSIM_SCENES_DEFAULT;
-  if (!fs::is_directory(dir)) GTEST_SKIP() << "no scenes folder " << dir;
+  if (!fs::is_directory(dir)) RTUSIM_SKIP_UNLESS_CI("no scenes folder " + dir);
   for (const std::string name : {"cornell_whitted", "kitchen", "sponza_dabrovic"}) {
     const Scene scene = load_gltf(dir + "/" + name + "/" + name + ".gltf");
     const KdTree tree = build_sah_kd_tree(scene, KdBuildParams{});
