@@ -66,11 +66,11 @@ nlohmann::json to_json_row(const Stats& stats) {
   return j;
 }
 
-void run_functional(const SweepPlan& plan, const SweepJob& job, const std::string& base_path,
-                    unsigned threads, nlohmann::json& rows) {
-  // Prepare once for every layout of the job, with the first point's other keys.
+// The job's run prepared once for every layout of its points (`kinds`, in point order), with
+// its first point's other keys.
+Prepared prepare_job(const SweepPlan& plan, const SweepJob& job, const std::string& base_path,
+                     std::vector<std::string>& kinds) {
   const SweepPoint& anchor = plan.points[job.points.front()];
-  std::vector<std::string> kinds;
   for (const size_t i : job.points)
     if (std::find(kinds.begin(), kinds.end(), plan.points[i].layout) == kinds.end())
       kinds.push_back(plan.points[i].layout);
@@ -80,7 +80,13 @@ void run_functional(const SweepPlan& plan, const SweepJob& job, const std::strin
   std::string list;
   for (const auto& k : kinds) list += (list.empty() ? "'" : ", '") + k + "'";
   overrides.push_back("layout.kind=[" + list + "]");
-  const Prepared p = prepare_run(base_path, overrides);
+  return prepare_run(base_path, overrides);
+}
+
+void run_functional(const SweepPlan& plan, const SweepJob& job, const std::string& base_path,
+                    unsigned threads, nlohmann::json& rows) {
+  std::vector<std::string> kinds;
+  const Prepared p = prepare_job(plan, job, base_path, kinds);
   const int w = p.config.image.width, h = p.config.image.height;
 
   for (size_t li = 0; li < kinds.size(); ++li) {
@@ -136,18 +142,8 @@ void run_functional(const SweepPlan& plan, const SweepJob& job, const std::strin
 // tier's chip writer from its L2's counts.
 void run_l2_family(const SweepPlan& plan, const SweepJob& job, const std::string& base_path,
                    nlohmann::json& rows) {
-  const SweepPoint& anchor = plan.points[job.points.front()];
   std::vector<std::string> kinds;
-  for (const size_t i : job.points)
-    if (std::find(kinds.begin(), kinds.end(), plan.points[i].layout) == kinds.end())
-      kinds.push_back(plan.points[i].layout);
-  std::vector<std::string> overrides = plan.sets;
-  for (const auto& o : anchor.overrides)
-    if (o.rfind("layout.kind=", 0) != 0) overrides.push_back(o);
-  std::string list;
-  for (const auto& k : kinds) list += (list.empty() ? "'" : ", '") + k + "'";
-  overrides.push_back("layout.kind=[" + list + "]");
-  const Prepared p = prepare_run(base_path, overrides);
+  const Prepared p = prepare_job(plan, job, base_path, kinds);
   const int w = p.config.image.width, h = p.config.image.height;
   const ChipParams& chip = p.config.chip;
   const std::vector<uint32_t> order = chip_pixel_order(chip, w, h);
